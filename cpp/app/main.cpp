@@ -1,0 +1,110 @@
+// nct: the command-line front end (check, run, describe).
+#include <CLI/CLI.hpp>
+#include <dolfinx/common/log.h>
+#include <iostream>
+#include <petscsys.h>
+#include <sstream>
+
+#include "run/run.h"
+#include "scene/scene.h"
+
+namespace
+{
+
+/// "-ksp_type cg -ksp_monitor" -> {{ksp_type, cg}, {ksp_monitor, ""}}
+std::vector<std::pair<std::string, std::string>> parse_petsc(const std::string& text)
+{
+  std::vector<std::pair<std::string, std::string>> out;
+  std::istringstream in(text);
+  std::string word;
+  while (in >> word)
+  {
+    if (word.rfind("-", 0) == 0)
+      out.emplace_back(word.substr(1), "");
+    else if (!out.empty() && out.back().second.empty())
+      out.back().second = word;
+    else
+      throw nct::scene::Error("--petsc: '" + word + "' is not an option name (-name value)");
+  }
+  return out;
+}
+
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  CLI::App app{"nct: in-silico non-contact tonometry (Corvis ST air-puff test)"};
+  app.require_subcommand(1);
+  std::string scene_file, out, petsc;
+  std::vector<std::string> sets;
+  bool markdown = false;
+
+  auto* check = app.add_subcommand("check", "validate a scene file and exit");
+  check->add_option("scene", scene_file, "scene file (TOML)")->required();
+  check->add_option("--set", sets, "override a key: section.key=value");
+
+  auto* run = app.add_subcommand("run", "run a scene into a run folder");
+  run->add_option("scene", scene_file, "scene file (TOML)")->required();
+  run->add_option("--set", sets, "override a key: section.key=value");
+  run->add_option("--out", out, "run folder (default: runs/<scene name>)");
+  run->add_option("--petsc", petsc, "PETSc options, e.g. \"-ksp_type cg -pc_type gamg\"");
+
+  auto* describe = app.add_subcommand("describe", "print every scene key with its documentation");
+  describe->add_flag("--markdown", markdown, "as a Markdown table");
+
+  CLI11_PARSE(app, argc, argv);
+
+  if (describe->parsed())
+  {
+    std::cout << nct::scene::describe(markdown);
+    return 0;
+  }
+
+  // PETSc (and MPI) without the command line: nct parses its own.
+  int one = 1;
+  char* argv0[] = {argv[0], nullptr};
+  char** pargv = argv0;
+  PetscInitialize(&one, &pargv, nullptr, nullptr);
+  dolfinx::init_logging(one, pargv);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+
+  int code = 0;
+  try
+  {
+    auto scene = nct::scene::Scene::load(scene_file, sets);
+    if (check->parsed())
+    {
+      if (rank == 0)
+        std::cout << scene_file << ": ok\n";
+    }
+    else
+    {
+      nct::RunOptions options;
+      options.out = out.empty() ? std::filesystem::path("runs")
+                                      / std::filesystem::path(scene_file).stem()
+                                : std::filesystem::path(out);
+      options.petsc = parse_petsc(petsc);
+      nct::run(MPI_COMM_WORLD, scene, options);
+    }
+  }
+  catch (const nct::scene::Error& e)
+  {
+    if (rank == 0)
+      std::cerr << "error: " << e.what() << std::endl;
+    code = 2;
+  }
+  catch (const nct::Diverged& e)
+  {
+    if (rank == 0)
+      std::cerr << "error: " << e.what() << std::endl;
+    code = 3;
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "error (rank " << rank << "): " << e.what() << std::endl;
+    code = 1;
+  }
+  PetscFinalize();
+  return code;
+}

@@ -1,0 +1,82 @@
+#include "io/output.h"
+
+#include <iostream>
+
+namespace nct::io
+{
+
+RunFolder::RunFolder(MPI_Comm comm, std::filesystem::path dir)
+    : _comm(comm), _dir(std::move(dir))
+{
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  int ok = 1;
+  if (rank == 0)
+  {
+    std::error_code ec;
+    std::filesystem::create_directories(_dir, ec);
+    _log.open(_dir / "run.log");
+    ok = !ec && _log.good();
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
+  if (!ok)
+    throw std::runtime_error("cannot create the run folder " + _dir.string());
+}
+
+void RunFolder::write_text(const std::string& name, const std::string& text) const
+{
+  int rank = 0;
+  MPI_Comm_rank(_comm, &rank);
+  if (rank != 0)
+    return;
+  auto tmp = _dir / (name + ".tmp");
+  {
+    std::ofstream f(tmp);
+    f << text;
+    if (!f.good())
+      throw std::runtime_error("cannot write " + tmp.string());
+  }
+  std::filesystem::rename(tmp, _dir / name);
+}
+
+void RunFolder::log(const std::string& line)
+{
+  int rank = 0;
+  MPI_Comm_rank(_comm, &rank);
+  if (rank != 0)
+    return;
+  std::cout << line << std::endl;
+  _log << line << std::endl;
+}
+
+Fields::Fields(const RunFolder& folder, std::shared_ptr<const dolfinx::mesh::Mesh> mesh,
+               std::shared_ptr<const dolfinx::fem::FunctionSpace> coordinate_space)
+    : _folder(folder), _mesh(std::move(mesh)),
+      _coordinate_space(std::move(coordinate_space))
+{
+}
+
+void Fields::write(const dolfinx::fem::Function<double>& f, double time)
+{
+  auto& file = _files[f.name];
+  if (!file)
+  {
+    file = std::make_unique<dolfinx::io::XDMFFile>(
+        _mesh->comm(), _folder.dir() / (f.name + ".xdmf"), "w");
+    file->write_mesh(*_mesh);
+  }
+  const auto& element = *f.function_space()->element();
+  const bool dg0 = element.space_dimension() / element.block_size() == 1;
+  const bool on_coordinates = element == *_coordinate_space->element();
+  if (dg0 || on_coordinates)
+    file->write_function(f, time);
+  else
+  {
+    dolfinx::fem::Function<double> g(_coordinate_space);
+    g.name = f.name;
+    g.interpolate(f);
+    file->write_function(g, time);
+  }
+}
+
+} // namespace nct::io

@@ -1,0 +1,53 @@
+// The run folder: log, atomically written text files, XDMF time series.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <dolfinx/fem/Function.h>
+#include <dolfinx/io/XDMFFile.h>
+#include <mpi.h>
+
+namespace nct::io
+{
+
+/// A run folder on disk. Text files are written whole or not at all
+/// (a temporary file renamed into place); only rank 0 writes them.
+class RunFolder
+{
+public:
+  RunFolder(MPI_Comm comm, std::filesystem::path dir);
+  const std::filesystem::path& dir() const { return _dir; }
+  /// Write `name` in the folder atomically.
+  void write_text(const std::string& name, const std::string& text) const;
+  /// A progress line: on rank 0's stdout and in run.log.
+  void log(const std::string& line);
+
+private:
+  MPI_Comm _comm;
+  std::filesystem::path _dir;
+  std::ofstream _log;
+};
+
+/// One XDMF file per function, so ParaView opens each as a time series.
+/// Functions that are neither DG0 nor on the mesh's coordinate element
+/// are interpolated to it first.
+class Fields
+{
+public:
+  Fields(const RunFolder& folder, std::shared_ptr<const dolfinx::mesh::Mesh> mesh,
+         std::shared_ptr<const dolfinx::fem::FunctionSpace> coordinate_space);
+  /// Append `f` at `time` to <f.name>.xdmf; files are flushed per call.
+  void write(const dolfinx::fem::Function<double>& f, double time);
+
+private:
+  const RunFolder& _folder;
+  std::shared_ptr<const dolfinx::mesh::Mesh> _mesh;
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> _coordinate_space;
+  std::map<std::string, std::unique_ptr<dolfinx::io::XDMFFile>> _files;
+};
+
+} // namespace nct::io

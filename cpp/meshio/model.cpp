@@ -1,0 +1,209 @@
+#include "meshio/model.h"
+
+#include <gmsh.h>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+#include <unordered_map>
+
+#include <dolfinx/fem/CoordinateElement.h>
+#include <dolfinx/graph/AdjacencyList.h>
+#include <dolfinx/io/xdmf_utils.h>
+#include <dolfinx/mesh/utils.h>
+
+namespace nct::meshio
+{
+namespace
+{
+
+int rank(MPI_Comm comm)
+{
+  int r = 0;
+  MPI_Comm_rank(comm, &r);
+  return r;
+}
+
+/// Broadcast a string from rank 0.
+std::string broadcast(MPI_Comm comm, std::string s)
+{
+  std::uint64_t n = s.size();
+  MPI_Bcast(&n, 1, MPI_UINT64_T, 0, comm);
+  s.resize(n);
+  MPI_Bcast(s.data(), static_cast<int>(n), MPI_CHAR, 0, comm);
+  return s;
+}
+
+/// Elements of one gmsh type on every entity of a physical group.
+void group_elements(int dim, int group, int type,
+                    std::vector<std::size_t>& nodes)
+{
+  std::vector<int> entities;
+  gmsh::model::getEntitiesForPhysicalGroup(dim, group, entities);
+  for (int e : entities)
+  {
+    std::vector<std::size_t> tags, enodes;
+    gmsh::model::mesh::getElementsByType(type, tags, enodes, e);
+    nodes.insert(nodes.end(), enodes.begin(), enodes.end());
+  }
+}
+
+} // namespace
+
+Groups groups_of_current_model(MPI_Comm comm)
+{
+  std::ostringstream s;
+  if (rank(comm) == 0)
+  {
+    gmsh::vectorpair groups;
+    gmsh::model::getPhysicalGroups(groups);
+    for (auto [dim, tag] : groups)
+    {
+      std::string name;
+      gmsh::model::getPhysicalName(dim, tag, name);
+      if (name.empty())
+        name = "group_" + std::to_string(tag);
+      s << dim << ' ' << tag << ' ' << name << '\n';
+    }
+  }
+  std::istringstream in(broadcast(comm, s.str()));
+  Groups g;
+  int dim, tag;
+  std::string name;
+  while (in >> dim >> tag >> name)
+  {
+    if (dim == 3)
+      g.volumes[name] = tag;
+    else if (dim == 2)
+      g.surfaces[name] = tag;
+  }
+  return g;
+}
+
+Groups open(MPI_Comm comm, const std::filesystem::path& file)
+{
+  std::string error;
+  if (rank(comm) == 0)
+  {
+    try
+    {
+      gmsh::clear();
+      gmsh::open(file.string());
+      if (file.extension() == ".geo")
+        gmsh::model::mesh::generate(3);
+      std::vector<int> types;
+      gmsh::model::mesh::getElementTypes(types, 3);
+      if (std::find(types.begin(), types.end(), 4) == types.end())
+        error = file.string() + ": no linear tetrahedra in the mesh";
+      else if (types.size() != 1)
+        error = file.string() + ": only linear tetrahedra are supported";
+    }
+    catch (const std::exception& e)
+    {
+      error = file.string() + ": gmsh could not read it: " + e.what();
+    }
+  }
+  error = broadcast(comm, error);
+  if (!error.empty())
+    throw std::runtime_error(error);
+  return groups_of_current_model(comm);
+}
+
+Model extract(MPI_Comm comm)
+{
+  Model m;
+  m.groups = groups_of_current_model(comm);
+  if (rank(comm) != 0)
+    return m;
+
+  // Tetrahedra per volume group, then compact node numbering.
+  std::unordered_map<std::size_t, std::int64_t> index;
+  auto node_index = [&](std::size_t tag)
+  {
+    auto [it, fresh] = index.emplace(tag, static_cast<std::int64_t>(index.size()));
+    return it->second;
+  };
+  for (auto [name, group] : m.groups.volumes)
+  {
+    std::vector<std::size_t> nodes;
+    group_elements(3, group, 4, nodes);
+    for (std::size_t n : nodes)
+      m.cells.push_back(node_index(n));
+    m.cell_groups.insert(m.cell_groups.end(), nodes.size() / 4, group);
+  }
+  for (auto [name, group] : m.groups.surfaces)
+  {
+    std::vector<std::size_t> nodes;
+    group_elements(2, group, 2, nodes);
+    for (std::size_t n : nodes)
+    {
+      auto it = index.find(n);
+      if (it == index.end())
+        throw std::runtime_error("surface group '" + name
+                                 + "' has a node that no tetrahedron uses");
+      m.facets.push_back(it->second);
+    }
+    m.facet_groups.insert(m.facet_groups.end(), nodes.size() / 3, group);
+  }
+
+  std::vector<std::size_t> tags;
+  std::vector<double> coord, param;
+  gmsh::model::mesh::getNodes(tags, coord, param, -1, -1, true, false);
+  m.x.assign(3 * index.size(), 0.0);
+  for (std::size_t i = 0; i < tags.size(); ++i)
+    if (auto it = index.find(tags[i]); it != index.end())
+      std::copy_n(coord.begin() + 3 * i, 3, m.x.begin() + 3 * it->second);
+  return m;
+}
+
+Tagged distribute(MPI_Comm comm, const Model& model)
+{
+  using namespace dolfinx;
+  const std::size_t num_cells = model.cells.size() / 4;
+  std::vector<std::int32_t> offsets(num_cells + 1);
+  for (std::size_t c = 0; c <= num_cells; ++c)
+    offsets[c] = static_cast<std::int32_t>(4 * c);
+  graph::AdjacencyList<std::int64_t> cells(model.cells, offsets);
+  fem::CoordinateElement element(mesh::CellType::tetrahedron, 1);
+
+  Tagged t;
+  t.groups = model.groups;
+  t.mesh = std::make_shared<mesh::Mesh>(mesh::create_mesh(
+      comm, cells, element, model.x, {model.x.size() / 3, 3},
+      mesh::GhostMode::none));
+
+  auto tags = [&](int dim, const std::vector<std::int64_t>& entities,
+                  const std::vector<std::int32_t>& values, int nv)
+  {
+    auto [local, local_values] = io::xdmf_utils::distribute_entity_data(
+        *t.mesh, dim, entities, values);
+    t.mesh->topology_mutable().create_connectivity(dim, 0);
+    t.mesh->topology_mutable().create_connectivity(dim, 3);
+    std::vector<std::int32_t> off(local_values.size() + 1);
+    for (std::size_t i = 0; i < off.size(); ++i)
+      off[i] = static_cast<std::int32_t>(nv * i);
+    graph::AdjacencyList<std::int32_t> adj(std::move(local), std::move(off));
+    return std::make_shared<mesh::MeshTags<std::int32_t>>(mesh::create_meshtags(
+        t.mesh, dim, adj, std::span<const std::int32_t>(local_values)));
+  };
+  t.cells = tags(3, model.cells, model.cell_groups, 4);
+  t.facets = tags(2, model.facets, model.facet_groups, 3);
+  return t;
+}
+
+dolfinx::mesh::MeshTags<std::int32_t>
+retag(const dolfinx::mesh::MeshTags<std::int32_t>& tags,
+      const std::map<std::int32_t, std::int32_t>& map)
+{
+  std::vector<std::int32_t> indices, values;
+  for (std::size_t i = 0; i < tags.indices().size(); ++i)
+    if (auto it = map.find(tags.values()[i]); it != map.end())
+    {
+      indices.push_back(tags.indices()[i]);
+      values.push_back(it->second);
+    }
+  return dolfinx::mesh::MeshTags<std::int32_t>(tags.mesh(), tags.dim(),
+                                               std::move(indices),
+                                               std::move(values));
+}
+
+} // namespace nct::meshio

@@ -1,0 +1,65 @@
+// gmsh models to distributed dolfinx meshes with group tags.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <dolfinx/mesh/Mesh.h>
+#include <dolfinx/mesh/MeshTags.h>
+#include <mpi.h>
+
+namespace nct::meshio
+{
+
+/// Physical groups of a model: name -> tag, for volumes and surfaces.
+struct Groups
+{
+  std::map<std::string, int> volumes;
+  std::map<std::string, int> surfaces;
+};
+
+/// A tetrahedral mesh with its tagged boundary triangles, held on one
+/// rank (empty elsewhere): the input of `distribute`.
+struct Model
+{
+  std::vector<double> x;                 ///< 3 coordinates per node
+  std::vector<std::int64_t> cells;       ///< 4 node indices per tetrahedron
+  std::vector<std::int32_t> cell_groups; ///< volume group tag per cell
+  std::vector<std::int64_t> facets;      ///< 3 node indices per triangle
+  std::vector<std::int32_t> facet_groups; ///< surface group tag per triangle
+  Groups groups;                         ///< known on every rank
+};
+
+/// The physical groups of the current gmsh model (rank 0), on every rank.
+Groups groups_of_current_model(MPI_Comm comm);
+
+/// Open a .msh or .geo file as the current gmsh model on rank 0 (a .geo
+/// is meshed in 3D); errors name the file. Returns its groups on every rank.
+Groups open(MPI_Comm comm, const std::filesystem::path& file);
+
+/// Linear tetrahedra and tagged triangles of the current gmsh model (rank 0).
+Model extract(MPI_Comm comm);
+
+/// A distributed mesh with its physical-group tags.
+struct Tagged
+{
+  std::shared_ptr<dolfinx::mesh::Mesh> mesh;
+  std::shared_ptr<dolfinx::mesh::MeshTags<std::int32_t>> cells;
+  std::shared_ptr<dolfinx::mesh::MeshTags<std::int32_t>> facets;
+  Groups groups;
+};
+
+/// Partition a Model over `comm` and carry its tags along.
+Tagged distribute(MPI_Comm comm, const Model& model);
+
+/// New tags on the same entities with values mapped through `map`;
+/// entities whose value is not in `map` are dropped.
+dolfinx::mesh::MeshTags<std::int32_t>
+retag(const dolfinx::mesh::MeshTags<std::int32_t>& tags,
+      const std::map<std::int32_t, std::int32_t>& map);
+
+} // namespace nct::meshio

@@ -1,0 +1,341 @@
+#include "run/run.h"
+
+#include <cmath>
+#include <cstdio>
+#include <gmsh.h>
+#include <sstream>
+
+#include <dolfinx/fem/utils.h>
+#include <dolfinx/la/petsc.h>
+
+#include "eye/geometry.h"
+#include "io/output.h"
+#include "meshio/model.h"
+#include "solid/problem.h"
+#include "solver/newton.h"
+
+namespace nct
+{
+namespace
+{
+
+constexpr double mmHg = 1.333224e-4; // MPa
+
+std::string format(const char* fmt, auto... args)
+{
+  char buf[512];
+  std::snprintf(buf, sizeof buf, fmt, args...);
+  return buf;
+}
+
+/// Everything a scene's mesh brings: the distributed mesh, its parts and
+/// boundaries, how fibres are laid, where volumes and probes are taken.
+struct MeshSetup
+{
+  meshio::Tagged mesh;
+  std::map<std::int32_t, std::string> parts;
+  solid::Boundaries boundaries;
+  solid::FibreRule fibres;
+  std::array<double, 3> volume_origin;
+  std::vector<std::array<double, 3>> probes;
+  std::vector<std::string> probe_names;
+};
+
+std::int32_t surface_tag(const meshio::Groups& g, const std::string& name,
+                         const std::string& key)
+{
+  auto it = g.surfaces.find(name);
+  if (it == g.surfaces.end())
+  {
+    std::string known;
+    for (auto& [n, t] : g.surfaces)
+      known += (known.empty() ? "" : ", ") + n;
+    throw scene::Error("key '" + key + "': the mesh has no surface group '" + name
+                       + "' (it has: " + known + ")");
+  }
+  return it->second;
+}
+
+MeshSetup eye_mesh(MPI_Comm comm, const scene::Scene& s)
+{
+  eye::Geometry g;
+  g.cornea_anterior_radius = s.real("geometry.cornea_anterior_radius");
+  g.cornea_posterior_radius = s.real("geometry.cornea_posterior_radius");
+  g.cornea_central_thickness = s.real("geometry.cornea_central_thickness");
+  g.limbus_diameter = s.real("geometry.limbus_diameter");
+  g.limbus_width = s.real("geometry.limbus_width");
+  g.sclera_outer_radius = s.real("geometry.sclera_outer_radius");
+  g.sclera_thickness = s.real("geometry.sclera_thickness");
+  g.cut_y = s.real("geometry.cut_y");
+  eye::Refinement r;
+  r.layers = s.integer("mesh.layers");
+  r.size_cornea = s.real("mesh.size_cornea");
+  r.size_limbus = s.real("mesh.size_limbus");
+  r.size_sclera = s.real("mesh.size_sclera");
+
+  eye::Derived d;
+  try
+  {
+    d = eye::derive(g);
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw scene::Error(s.file().string() + ": " + e.what());
+  }
+
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank == 0)
+    eye::build(g, r);
+  MeshSetup m{meshio::distribute(comm, meshio::extract(comm)), {}, {}, {}, {}, {}, {}};
+  for (auto& [name, tag] : m.mesh.groups.volumes)
+    m.parts[tag] = name;
+  const auto& gs = m.mesh.groups;
+  m.boundaries.fixed = {surface_tag(gs, "fixed", "mesh")};
+  m.boundaries.symmetry = {surface_tag(gs, "symmetry_x", "mesh"),
+                           surface_tag(gs, "symmetry_z", "mesh")};
+  m.boundaries.cavity_wall = {surface_tag(gs, "cavity_wall", "mesh")};
+  m.fibres = [g](const std::string& part, const std::array<double, 3>& X)
+  {
+    eye::Part p = part == "cornea"   ? eye::Part::cornea
+                  : part == "limbus" ? eye::Part::limbus
+                                     : eye::Part::sclera;
+    return eye::fibres(g, p, X);
+  };
+  m.volume_origin = {0.0, g.cut_y, 0.0};
+  m.probes = {{0.0, d.apex_y, 0.0}};
+  m.probe_names = {"apex"};
+  return m;
+}
+
+MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s)
+{
+  const std::string file = s.file().string();
+  meshio::Groups groups = meshio::open(comm, s.path("mesh.file"));
+
+  // Every volume group has a material and every material a volume group.
+  auto materials = s.tables("material");
+  for (auto& [name, tag] : groups.volumes)
+    if (std::find(materials.begin(), materials.end(), name) == materials.end())
+      throw scene::Error(file + ": volume group '" + name + "' of " + s.string("mesh.file")
+                         + " has no [material." + name + "] table");
+  for (auto& name : materials)
+    if (!groups.volumes.count(name))
+      throw scene::Error(file + ": key 'material." + name + "': the mesh has no volume group '"
+                         + name + "'");
+  solid::Boundaries b;
+  auto tags = [&](const std::string& key)
+  {
+    std::vector<std::int32_t> t;
+    for (auto& name : s.strings(key))
+      t.push_back(surface_tag(groups, name, key));
+    return t;
+  };
+  b.fixed = tags("boundary.fixed");
+  b.symmetry = tags("boundary.symmetry");
+  b.cavity_wall = tags("boundary.cavity_wall");
+  b.surface_load = tags("boundary.surface_load");
+
+  MeshSetup m{meshio::distribute(comm, meshio::extract(comm)), {}, b, {}, {}, {}, {}};
+  for (auto& [name, tag] : groups.volumes)
+    m.parts[tag] = name;
+  std::map<std::string, std::array<std::array<double, 3>, 2>> constant;
+  for (auto& name : materials)
+  {
+    std::array<std::array<double, 3>, 2> a{};
+    auto dirs = s.points("material." + name + ".fibre_directions");
+    for (std::size_t i = 0; i < dirs.size(); ++i)
+    {
+      double n = std::hypot(dirs[i][0], dirs[i][1], dirs[i][2]);
+      if (n == 0)
+        throw scene::Error(file + ": key 'material." + name
+                           + ".fibre_directions': a zero vector has no direction");
+      for (int j = 0; j < 3; ++j)
+        a[i][j] = dirs[i][j] / n;
+    }
+    constant[name] = a;
+  }
+  m.fibres = [constant](const std::string& part, const std::array<double, 3>&)
+  { return constant.at(part); };
+  m.volume_origin = s.points("cavity.origin").at(0);
+  return m;
+}
+
+nlohmann::json vec(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; }
+
+} // namespace
+
+nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& options)
+{
+  const double t_start = MPI_Wtime();
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  io::RunFolder folder(comm, options.out);
+  folder.write_text("scene.toml", s.to_toml());
+  folder.log("nct: " + s.file().string() + " on " + std::to_string(ranks)
+             + " rank(s) -> " + options.out.string());
+
+  // Linear solver options: defaults, then the scene's, then the command line's.
+  auto petsc = s.options("solver.petsc");
+  petsc.insert(petsc.end(), options.petsc.begin(), options.petsc.end());
+  solver::set_petsc_options(petsc);
+
+  // Mesh
+  double t = MPI_Wtime();
+  gmsh::initialize();
+  gmsh::option::setNumber("General.Terminal", 0);
+  const bool eye = s.string("mesh.source") == "eye";
+  MeshSetup m = eye ? eye_mesh(comm, s) : file_mesh(comm, s);
+  gmsh::finalize();
+  for (auto& p : s.points("output.probes"))
+  {
+    m.probes.push_back(p);
+    m.probe_names.push_back("probe_" + std::to_string(m.probe_names.size()));
+  }
+  const double t_mesh = MPI_Wtime() - t;
+
+  // Problem
+  t = MPI_Wtime();
+  std::map<std::string, solid::Material> materials;
+  for (auto& [tag, part] : m.parts)
+    materials[part] = solid::read_material(s, part);
+  const int degree = s.integer("fem.degree");
+  solid::Problem problem(m.mesh, degree, s.string("fem.quadrature") == "reduced", m.parts, materials, m.fibres, m.boundaries,
+                         m.volume_origin);
+  dolfinx::la::petsc::Matrix A(problem.create_matrix(), false);
+  solver::Newton newton(comm, A.mat());
+  const double t_setup = MPI_Wtime() - t;
+
+  const std::int64_t cells = m.mesh.mesh->topology().index_map(3)->size_global();
+  folder.log(format("mesh: %lld tetrahedra, degree %d, %lld dofs (%.2f s); setup %.2f s",
+                    (long long)cells, degree, (long long)problem.dofs(), t_mesh, t_setup));
+
+  const solver::NewtonSettings settings{
+      s.integer("solver.max_iterations"), s.real("solver.rtol"), s.real("solver.atol"),
+      s.string("solver.line_search") == "backtracking"};
+  const double iop = s.real("loading.iop"), surface = s.real("loading.surface_pressure");
+  const int steps = s.integer("loading.steps"), max_cuts = s.integer("solver.max_step_cuts");
+
+  // Output of one state
+  double t_output = 0;
+  io::Fields fields(folder, m.mesh.mesh, problem.coordinate_space());
+  auto write_fields = [&](double time)
+  {
+    if (!s.boolean("output.fields"))
+      return;
+    double t0 = MPI_Wtime();
+    problem.update_von_mises();
+    fields.write(*problem.u, time);
+    fields.write(*problem.von_mises, time);
+    t_output += MPI_Wtime() - t0;
+  };
+  if (s.boolean("output.fields"))
+  {
+    fields.write(*problem.fields.at("fibre_1"), 0.0);
+    fields.write(*problem.fields.at("fibre_2"), 0.0);
+  }
+  write_fields(0.0);
+
+  nlohmann::json summary;
+  summary["scene"] = s.file().string();
+  summary["ranks"] = ranks;
+  summary["cells"] = cells;
+  summary["dofs"] = problem.dofs();
+  summary["degree"] = degree;
+  summary["symmetry_factor"] = problem.symmetry_factor();
+  summary["cavity_volume_reference_mm3"] = problem.cavity_volume();
+  nlohmann::json& history = summary["steps"] = nlohmann::json::array();
+
+  // Load ramp with step cutting: a failed step is retried at half the
+  // increment; after two successes the increment doubles back.
+  dolfinx::la::Vector<double> saved(*problem.u->x());
+  double done = 0, increment = 1.0 / steps;
+  int cuts = 0, consecutive_cuts = 0, successes = 0, newton_total = 0;
+  auto finish = [&](const std::string& status)
+  {
+    summary["status"] = status;
+    summary["newton_iterations"] = newton_total;
+    summary["linear_solves"] = newton.timings.linear_solves;
+    summary["step_cuts"] = cuts;
+    summary["wall_s"] = MPI_Wtime() - t_start;
+    summary["timings_s"] = {{"mesh", t_mesh},
+                            {"setup", t_setup},
+                            {"assemble", newton.timings.assemble},
+                            {"linear_solve", newton.timings.solve},
+                            {"output", t_output}};
+    folder.write_text("summary.json", summary.dump(2) + "\n");
+  };
+  while (done < 1.0 - 1e-12)
+  {
+    const double target = std::min(1.0, done + increment);
+    problem.set_pressures(target * iop * mmHg, target * surface * mmHg);
+    const double t_step = MPI_Wtime();
+    auto report = newton.solve(
+        *problem.u->x(), [&](auto& b) { problem.residual(b); },
+        [&](Mat J) { problem.jacobian(J); }, settings);
+    newton_total += report.iterations;
+    if (!report.converged)
+    {
+      std::string residuals;
+      for (double r : report.residuals)
+        residuals += format(" %.3e", r);
+      folder.log(format("  load %.4f: Newton failed after %d iterations: %s; residuals:%s",
+                        target, report.iterations, report.reason.c_str(),
+                        residuals.c_str()));
+      std::copy(saved.array().begin(), saved.array().end(),
+                problem.u->x()->mutable_array().begin());
+      ++cuts;
+      if (++consecutive_cuts > max_cuts)
+      {
+        std::string msg = format(
+            "inflation diverged: load fraction %.6f (IOP %.3f mmHg) failed after %d "
+            "step cuts (solver.max_step_cuts); last Newton: %s; residuals:%s",
+            target, target * iop, max_cuts, report.reason.c_str(), residuals.c_str());
+        summary["error"] = msg;
+        finish("failed");
+        throw Diverged(msg);
+      }
+      increment /= 2;
+      successes = 0;
+      continue;
+    }
+    done = target;
+    consecutive_cuts = 0;
+    std::copy(problem.u->x()->array().begin(), problem.u->x()->array().end(),
+              saved.mutable_array().begin());
+    if (++successes >= 2 && increment < 1.0 / steps)
+      increment = std::min(2 * increment, 1.0 / steps), successes = 0;
+
+    const double volume = problem.cavity_volume();
+    auto probes = problem.displacement_at(m.probes);
+    nlohmann::json step = {{"load_fraction", done},
+                           {"iop_mmHg", done * iop},
+                           {"surface_pressure_mmHg", done * surface},
+                           {"newton_iterations", report.iterations},
+                           {"residual_N", report.residuals.back()},
+                           {"cavity_volume_mm3", volume}};
+    for (std::size_t i = 0; i < probes.size(); ++i)
+      step[m.probe_names[i] + "_displacement_mm"] = vec(probes[i]);
+    history.push_back(step);
+    write_fields(done);
+    folder.log(format("step %3zu  load %.4f  IOP %7.3f mmHg  newton %2d  |R| %.2e  "
+                      "%s u %+.5f %+.5f %+.5f mm  V %.4f mm3  wall %.2f s",
+                      history.size(), done, done * iop, report.iterations,
+                      report.residuals.back(), m.probe_names[0].c_str(), probes[0][0],
+                      probes[0][1], probes[0][2], volume, MPI_Wtime() - t_step));
+  }
+
+  const auto& last = history.back();
+  if (eye)
+    summary["apex_displacement_mm"] = last["apex_displacement_mm"][1];
+  summary["iop_mmHg"] = iop;
+  summary["cavity_volume_mm3"] = last["cavity_volume_mm3"];
+  finish("converged");
+  folder.log(format("done: %zu load steps, %d Newton iterations, %d step cuts; assemble "
+                    "%.2f s, linear solve %.2f s, output %.2f s, total %.2f s",
+                    history.size(), newton_total, cuts, newton.timings.assemble,
+                    newton.timings.solve, t_output, summary["wall_s"].get<double>()));
+  return summary;
+}
+
+} // namespace nct

@@ -1,0 +1,37 @@
+// Running a scene: mesh, solve the load steps, write the run folder.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <mpi.h>
+#include <nlohmann/json.hpp>
+
+#include "scene/scene.h"
+
+namespace nct
+{
+
+/// The solve could not go on: the message says which phase, at which load
+/// and with which residual history. Output written so far stays valid.
+class Diverged : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Command-line settings of a run.
+struct RunOptions
+{
+  std::filesystem::path out;  ///< run folder
+  std::vector<std::pair<std::string, std::string>> petsc; ///< overrides the scene's
+};
+
+/// Run a scene (static inflation by a pressure ramp) into a run folder and
+/// return its summary (also written to out/summary.json).
+nlohmann::json run(MPI_Comm comm, const scene::Scene& scene, const RunOptions& options);
+
+} // namespace nct

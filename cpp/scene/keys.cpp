@@ -1,0 +1,211 @@
+// Every scene key, declared once: default, unit, accepted range, description.
+#include "scene/scene.h"
+
+#include <set>
+
+namespace nct::scene
+{
+namespace
+{
+
+using K = Kind;
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+/// The keys of one material table. Defaults are those of `part`.
+struct MaterialDefaults
+{
+  std::string model;
+  std::string c10, k1, k2, kappa, youngs_modulus, poisson_ratio;
+};
+
+void add_material(std::vector<Key>& keys, const std::string& part,
+                  const MaterialDefaults& d, bool fibres_from_geometry)
+{
+  const std::size_t first = keys.size();
+  const std::string m = "material." + part + ".";
+  keys.push_back({m + "model", K::choice, "\"" + d.model + "\"", "", -inf, inf,
+                  {"hgo", "neo_hookean", "linear_elastic"},
+                  "material law of the part"});
+  keys.push_back({m + "c10", K::real, d.c10, "MPa", 1e-6, 1e3, {},
+                  "matrix stiffness C10 (hgo, neo_hookean); shear modulus 2 C10"});
+  keys.push_back({m + "k1", K::real, d.k1, "MPa", 0, 1e3, {},
+                  "fibre stiffness k1 (hgo); 0 makes the part isotropic"});
+  keys.push_back({m + "k2", K::real, d.k2, "", 1e-3, 1e4, {},
+                  "fibre nonlinearity k2 (hgo)"});
+  keys.push_back({m + "kappa", K::real, d.kappa, "MPa", 1e-3, 1e7, {},
+                  "bulk modulus of the volumetric penalty (hgo, neo_hookean)"});
+  keys.push_back({m + "youngs_modulus", K::real, d.youngs_modulus, "MPa", 1e-9,
+                  1e5, {}, "Young's modulus E (linear_elastic)"});
+  keys.push_back({m + "poisson_ratio", K::real, d.poisson_ratio, "", 0, 0.499, {},
+                  "Poisson's ratio nu (linear_elastic)"});
+  if (!fibres_from_geometry)
+    keys.push_back({m + "fibre_directions", K::points, "[]", "", -inf, inf, {},
+                    "up to two constant fibre directions (hgo), normalised on "
+                    "use; none makes the part isotropic"});
+  for (std::size_t i = first; i < keys.size(); ++i)
+    keys[i].when = fibres_from_geometry ? "mesh.source=eye" : "mesh.source=file";
+}
+
+/// Mark the keys from `first` on as applying only when `when` holds.
+void only_when(std::vector<Key>& keys, std::size_t first, const std::string& when)
+{
+  for (std::size_t i = first; i < keys.size(); ++i)
+    keys[i].when = when;
+}
+
+std::vector<Key> declare()
+{
+  std::vector<Key> k;
+  // mesh
+  k.push_back({"mesh.source", K::choice, "\"eye\"", "", -inf, inf, {"eye", "file"},
+               "the parametric idealised eye, or an external gmsh mesh (mesh.file)"});
+  k.push_back({"mesh.file", K::string, "\"\"", "", -inf, inf, {},
+               "external mesh (.msh, or a .geo that gmsh meshes), relative to the "
+               "scene file; its physical groups map to materials and boundaries"});
+  only_when(k, k.size() - 1, "mesh.source=file");
+  std::size_t eye_keys = k.size();
+  k.push_back({"mesh.layers", K::integer, "5", "", 1, 12, {},
+               "eye: elements through the wall thickness"});
+  k.push_back({"mesh.size_cornea", K::real, "0.5", "mm", 0.05, 5, {},
+               "eye: in-plane element size in the cornea"});
+  k.push_back({"mesh.size_limbus", K::real, "0.5", "mm", 0.05, 5, {},
+               "eye: in-plane element size in the limbus"});
+  k.push_back({"mesh.size_sclera", K::real, "1.5", "mm", 0.05, 10, {},
+               "eye: in-plane element size in the sclera"});
+  // geometry of the idealised eye
+  k.push_back({"geometry.cornea_anterior_radius", K::real, "7.8", "mm", 5, 12, {},
+               "radius of the anterior corneal sphere"});
+  k.push_back({"geometry.cornea_posterior_radius", K::real, "6.5", "mm", 4, 12, {},
+               "radius of the posterior corneal sphere"});
+  k.push_back({"geometry.cornea_central_thickness", K::real, "0.55", "mm", 0.2, 1.5,
+               {}, "central corneal thickness"});
+  k.push_back({"geometry.limbus_diameter", K::real, "11.7", "mm", 8, 14, {},
+               "diameter of the anterior cornea-sclera junction"});
+  k.push_back({"geometry.limbus_width", K::real, "1.0", "mm", 0.2, 4, {},
+               "meridional width of the limbus band, centred on the junction"});
+  k.push_back({"geometry.sclera_outer_radius", K::real, "12.0", "mm", 9, 15, {},
+               "outer radius of the scleral sphere (centred at the origin)"});
+  k.push_back({"geometry.sclera_thickness", K::real, "0.8", "mm", 0.3, 2, {},
+               "scleral thickness"});
+  k.push_back({"geometry.cut_y", K::real, "-4.0", "mm", -11, 8, {},
+               "posterior cut plane y = cut_y (fixed); the cavity is closed there"});
+  only_when(k, eye_keys, "mesh.source=eye");
+  // materials
+  add_material(k, "cornea", {"hgo", "0.05", "0.010", "100", "5.0", "1.0", "0.3"}, true);
+  add_material(k, "limbus", {"hgo", "0.05", "0.010", "100", "5.0", "1.0", "0.3"}, true);
+  add_material(k, "sclera", {"neo_hookean", "0.8", "0", "1", "80.0", "1.0", "0.3"}, true);
+  add_material(k, "*", {"neo_hookean", "0.5", "0", "1", "50.0", "1.0", "0.3"}, false);
+  // discretisation
+  k.push_back({"fem.degree", K::integer, "2", "", 1, 2, {},
+               "polynomial degree of the displacement (Lagrange)"});
+  k.push_back({"fem.quadrature", K::choice, "\"reduced\"", "", -inf, inf,
+               {"reduced", "full"},
+               "cell quadrature: reduced = degree 2(p-1), at least 1 (the 1- and 4-point "
+               "rules of the standard linear and quadratic tetrahedra, exact for linear "
+               "elasticity); full = degree 2p, about 3x dearer assembly at p = 2"});
+  // boundaries of an external mesh (the eye's are built in)
+  std::size_t file_keys = k.size();
+  k.push_back({"boundary.fixed", K::strings, "[]", "", -inf, inf, {},
+               "file: facet groups clamped (u = 0)"});
+  k.push_back({"boundary.symmetry", K::strings, "[]", "", -inf, inf, {},
+               "file: facet groups on axis-aligned symmetry planes (u . n = 0)"});
+  k.push_back({"boundary.cavity_wall", K::strings, "[]", "", -inf, inf, {},
+               "file: facet groups bounding the fluid cavity (IOP acts here)"});
+  k.push_back({"boundary.surface_load", K::strings, "[]", "", -inf, inf, {},
+               "file: facet groups loaded by loading.surface_pressure"});
+  k.push_back({"cavity.origin", K::points, "[[0.0, 0.0, 0.0]]", "mm", -inf, inf, {},
+               "file: point on every symmetry plane and on any flat closing cap; "
+               "the cavity volume is taken about it"});
+  only_when(k, file_keys, "mesh.source=file");
+  // humors and loads
+  k.push_back({"humors.model", K::choice, "\"constant_pressure\"", "", -inf, inf,
+               {"constant_pressure"},
+               "cavity fluid: a prescribed pressure (the IOP) on the cavity wall"});
+  k.push_back({"loading.iop", K::real, "15.0", "mmHg", 0, 200, {},
+               "intraocular pressure reached at the end of the ramp"});
+  k.push_back({"loading.surface_pressure", K::real, "0.0", "mmHg", -1e6, 1e6, {},
+               "follower pressure on boundary.surface_load (negative pulls)"});
+  k.push_back({"loading.steps", K::integer, "5", "", 1, 10000, {},
+               "load steps of the linear ramp from zero"});
+  // nonlinear and linear solver
+  k.push_back({"solver.max_iterations", K::integer, "25", "", 1, 500, {},
+               "Newton iterations per load step before the step is cut"});
+  k.push_back({"solver.rtol", K::real, "1e-9", "", 1e-16, 1e-1, {},
+               "Newton: residual norm relative to the step's first residual"});
+  k.push_back({"solver.atol", K::real, "1e-11", "N", 0, 1, {},
+               "Newton: absolute residual norm"});
+  k.push_back({"solver.line_search", K::choice, "\"backtracking\"", "", -inf, inf,
+               {"backtracking", "none"},
+               "Newton globalisation: backtracking on the residual norm, or full steps"});
+  k.push_back({"solver.max_step_cuts", K::integer, "8", "", 0, 30, {},
+               "times a failed load step may be halved before the run stops"});
+  k.push_back({"solver.petsc", K::options, "{}", "", -inf, inf, {},
+               "PETSc options for the linear solver (default: MUMPS LU), e.g. "
+               "ksp_type = \"cg\""});
+  // output
+  k.push_back({"output.fields", K::boolean, "true", "", -inf, inf, {},
+               "write XDMF fields (displacement, fibres, von Mises stress)"});
+  k.push_back({"output.probes", K::points, "[]", "mm", -inf, inf, {},
+               "reference points whose displacement is reported at each step "
+               "(the eye adds its apex)"});
+  return k;
+}
+
+} // namespace
+
+const std::vector<Key>& keys()
+{
+  static const std::vector<Key> all = declare();
+  return all;
+}
+
+void check_consistency(const Scene& s)
+{
+  const std::string file = s.file().string();
+  const bool eye = s.string("mesh.source") == "eye";
+  auto fail = [&](const std::string& what)
+  { throw Error(file + ": " + what); };
+
+  if (eye)
+  {
+    if (s.real("loading.surface_pressure") != 0.0)
+      fail("key 'loading.surface_pressure': the eye has no surface-load group");
+  }
+  else
+  {
+    if (s.string("mesh.file").empty())
+      fail("key 'mesh.file': mesh.source = \"file\" needs a mesh file");
+    auto mesh = s.path("mesh.file");
+    if (!std::filesystem::is_regular_file(mesh))
+      fail("key 'mesh.file': file '" + s.string("mesh.file")
+           + "' not found (looked for " + mesh.string() + ")");
+    auto ext = mesh.extension().string();
+    if (ext != ".msh" && ext != ".geo")
+      fail("key 'mesh.file': '" + ext + "' files are not read; accepted: .msh, .geo");
+    if (s.tables("material").empty())
+      fail("key 'material': a file mesh needs a [material.<group>] table per "
+           "volume group");
+    // A group has one boundary condition.
+    std::map<std::string, std::string> owner;
+    for (const char* b : {"fixed", "symmetry", "cavity_wall", "surface_load"})
+      for (const std::string& g : s.strings(std::string("boundary.") + b))
+      {
+        auto [it, fresh] = owner.emplace(g, b);
+        if (!fresh)
+          fail("group '" + g + "' is in both boundary." + it->second
+               + " and boundary." + b + ": a facet group has one condition");
+      }
+    if (s.real("loading.iop") > 0 && s.strings("boundary.cavity_wall").empty())
+      fail("key 'loading.iop' > 0 but boundary.cavity_wall names no group");
+    if (s.real("loading.surface_pressure") != 0
+        && s.strings("boundary.surface_load").empty())
+      fail("key 'loading.surface_pressure' != 0 but boundary.surface_load names "
+           "no group");
+    for (const std::string& part : s.tables("material"))
+      if (s.points("material." + part + ".fibre_directions").size() > 2)
+        fail("key 'material." + part
+             + ".fibre_directions': at most two fibre families");
+  }
+}
+
+} // namespace nct::scene

@@ -1,0 +1,528 @@
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <sstream>
+
+namespace nct::scene
+{
+namespace
+{
+
+/// Levenshtein distance, for "did you mean" hints.
+std::size_t edit_distance(const std::string& a, const std::string& b)
+{
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j)
+    row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+  {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+    {
+      std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1,
+                         diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+/// Does a declared name (with "*" segments) match a concrete dotted path?
+bool matches(const std::string& pattern, const std::string& name)
+{
+  std::istringstream p(pattern), n(name);
+  std::string ps, ns;
+  while (true)
+  {
+    bool more_p = static_cast<bool>(std::getline(p, ps, '.'));
+    bool more_n = static_cast<bool>(std::getline(n, ns, '.'));
+    if (!more_p || !more_n)
+      return more_p == more_n;
+    if (ps != "*" && ps != ns)
+      return false;
+  }
+}
+
+std::string kind_name(const Key& key)
+{
+  switch (key.kind)
+  {
+  case Kind::boolean:
+    return "true or false";
+  case Kind::integer:
+    return "an integer";
+  case Kind::real:
+    return "a number";
+  case Kind::choice:
+    return "a string";
+  case Kind::string:
+    return "a string";
+  case Kind::strings:
+    return "an array of strings";
+  case Kind::points:
+    return "an array of [x, y, z] points";
+  case Kind::options:
+    return "a table of PETSc options";
+  }
+  return "";
+}
+
+std::string format_number(double x)
+{
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+/// "what is accepted" for a key, e.g. "an integer in [1, 12]".
+std::string accepted(const Key& key)
+{
+  std::string what = kind_name(key);
+  if (key.kind == Kind::choice)
+  {
+    what = "one of";
+    for (std::size_t i = 0; i < key.choices.size(); ++i)
+      what += (i ? ", \"" : " \"") + key.choices[i] + "\"";
+  }
+  else if (key.kind == Kind::integer || key.kind == Kind::real)
+  {
+    bool lo = std::isfinite(key.min), hi = std::isfinite(key.max);
+    if (lo && hi)
+      what += " in [" + format_number(key.min) + ", " + format_number(key.max) + "]";
+    else if (lo)
+      what += " >= " + format_number(key.min);
+    else if (hi)
+      what += " <= " + format_number(key.max);
+  }
+  if (!key.unit.empty())
+    what += " [" + key.unit + "]";
+  return what;
+}
+
+std::string source_text(const toml::node& n)
+{
+  std::ostringstream s;
+  if (auto* str = n.as_string())
+    s << '"' << str->get() << '"';
+  else if (n.is_table())
+    s << "a table";
+  else
+    n.visit([&](auto&& v) { s << v; });
+  return s.str();
+}
+
+/// Where a value came from: "file:line" or the --set option.
+std::string origin(const toml::node& n, const std::string& file)
+{
+  const auto& src = n.source();
+  if (src.path && src.path->rfind("--set", 0) == 0)
+    return *src.path;
+  if (src.begin.line > 0)
+    return file + ":" + std::to_string(src.begin.line);
+  return file;
+}
+
+/// Throw unless a user value fits its declared key.
+void check_value(const Key& key, const std::string& name, const toml::node& n,
+                 const std::string& where)
+{
+  auto fail = [&](const std::string& why)
+  {
+    throw Error(where + ": key '" + name + "': " + why + "; expected "
+                + accepted(key));
+  };
+  switch (key.kind)
+  {
+  case Kind::boolean:
+    if (!n.is_boolean())
+      fail("got " + source_text(n));
+    break;
+  case Kind::integer:
+  {
+    if (!n.is_integer())
+      fail("got " + source_text(n));
+    double v = static_cast<double>(n.as_integer()->get());
+    if (v < key.min || v > key.max)
+      fail("got " + source_text(n) + ", out of range");
+    break;
+  }
+  case Kind::real:
+  {
+    if (!n.is_number())
+      fail("got " + source_text(n));
+    double v = n.value<double>().value();
+    if (!std::isfinite(v) || v < key.min || v > key.max)
+      fail("got " + source_text(n) + ", out of range");
+    break;
+  }
+  case Kind::choice:
+    if (!n.is_string())
+      fail("got " + source_text(n));
+    if (std::find(key.choices.begin(), key.choices.end(),
+                  n.as_string()->get())
+        == key.choices.end())
+      fail("got " + source_text(n) + ", not a known choice");
+    break;
+  case Kind::string:
+    if (!n.is_string())
+      fail("got " + source_text(n));
+    break;
+  case Kind::strings:
+    if (!n.is_array() || !n.as_array()->is_homogeneous(toml::node_type::string))
+      if (!(n.is_array() && n.as_array()->empty()))
+        fail("got " + source_text(n));
+    break;
+  case Kind::points:
+  {
+    bool ok = n.is_array();
+    if (ok)
+      for (const auto& p : *n.as_array())
+      {
+        const auto* a = p.as_array();
+        ok = ok && a && a->size() == 3;
+        if (ok)
+          for (const auto& c : *a)
+            ok = ok && c.is_number() && std::isfinite(c.value<double>().value());
+      }
+    if (!ok)
+      fail("got " + source_text(n));
+    break;
+  }
+  case Kind::options:
+    if (!n.is_table())
+      fail("got " + source_text(n));
+    for (auto&& [k, v] : *n.as_table())
+      if (!(v.is_string() || v.is_number() || v.is_boolean()))
+        fail("option '" + std::string(k.str()) + "' is not a string, number or boolean");
+    break;
+  }
+}
+
+const Key* find_key(const std::string& name)
+{
+  // Exact names win over wildcards (material.cornea.c10 over material.*.c10).
+  for (const Key& k : keys())
+    if (k.name == name)
+      return &k;
+  for (const Key& k : keys())
+    if (matches(k.name, name))
+      return &k;
+  return nullptr;
+}
+
+std::string suggestion(const std::string& name)
+{
+  const Key* best = nullptr;
+  std::size_t best_d = 4;
+  for (const Key& k : keys())
+  {
+    std::size_t d = edit_distance(k.name, name);
+    if (d < best_d)
+      best = &k, best_d = d;
+  }
+  return best ? " (did you mean '" + best->name + "'?)" : "";
+}
+
+/// Check every leaf of a user table against the declared keys.
+void check_table(const toml::table& t, const std::string& prefix,
+                 const std::string& file)
+{
+  for (auto&& [k, v] : t)
+  {
+    std::string name = prefix.empty() ? std::string(k.str())
+                                      : prefix + "." + std::string(k.str());
+    const Key* key = find_key(name);
+    if (v.is_table() && !(key && key->kind == Kind::options))
+    {
+      check_table(*v.as_table(), name, file);
+      continue;
+    }
+    if (!key)
+      throw Error(origin(v, file) + ": unknown key '" + name + "'"
+                  + suggestion(name) + "; 'nct describe' lists every key");
+    check_value(*key, name, v, origin(v, file));
+  }
+}
+
+/// Insert `value` at a dotted path, creating tables on the way.
+void insert_at(toml::table& t, const std::string& name, toml::node&& value,
+               const std::string& where)
+{
+  auto dot = name.find('.');
+  std::string head = name.substr(0, dot);
+  if (dot == std::string::npos)
+  {
+    t.insert_or_assign(head, std::move(value));
+    return;
+  }
+  auto* sub = t.get(head);
+  if (!sub)
+    sub = &t.insert(head, toml::table{}).first->second;
+  if (!sub->is_table())
+    throw Error(where + ": '" + head + "' is not a table");
+  insert_at(*sub->as_table(), name.substr(dot + 1), std::move(value), where);
+}
+
+toml::table parse_literal(const std::string& name, const std::string& literal,
+                          const std::string& where)
+{
+  try
+  {
+    return toml::parse("v = " + literal, where);
+  }
+  catch (const toml::parse_error&)
+  {
+    (void)name;
+    // Bare words are strings: --set mesh.source=file
+    return toml::parse("v = \"" + literal + "\"", where);
+  }
+}
+
+/// Is a key's `when` condition met by the user's table (or its default)?
+bool applies(const Key& key, const toml::table& user)
+{
+  if (key.when.empty())
+    return true;
+  auto eq = key.when.find('=');
+  const std::string name = key.when.substr(0, eq), want = key.when.substr(eq + 1);
+  if (auto v = user.at_path(name).value<std::string>())
+    return *v == want;
+  const Key* k = find_key(name);
+  return toml::parse("v = " + k->default_value)["v"].value<std::string>() == want;
+}
+
+/// Check the `when` condition of every user key.
+void check_conditions(const toml::table& t, const std::string& prefix,
+                      const toml::table& user, const std::string& file)
+{
+  for (auto&& [k, v] : t)
+  {
+    std::string name = prefix.empty() ? std::string(k.str())
+                                      : prefix + "." + std::string(k.str());
+    const Key* key = find_key(name);
+    if (v.is_table() && !(key && key->kind == Kind::options))
+      check_conditions(*v.as_table(), name, user, file);
+    else if (key && !applies(*key, user))
+      throw Error(origin(v, file) + ": key '" + name + "' applies only when "
+                  + key->when + "; remove it or change "
+                  + key->when.substr(0, key->when.find('=')));
+  }
+}
+
+} // namespace
+
+Scene Scene::load(const std::filesystem::path& file,
+                  const std::vector<std::string>& overrides)
+{
+  const std::string fname = file.string();
+  if (!std::filesystem::is_regular_file(file))
+    throw Error(fname + ": scene file not found");
+  toml::table user;
+  try
+  {
+    user = toml::parse_file(fname);
+  }
+  catch (const toml::parse_error& e)
+  {
+    const auto& b = e.source().begin;
+    throw Error(fname + ":" + std::to_string(b.line) + ":"
+                + std::to_string(b.column) + ": not valid TOML: "
+                + std::string(e.description()));
+  }
+
+  for (const std::string& o : overrides)
+  {
+    const std::string where = "--set " + o;
+    auto eq = o.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw Error(where + ": expected section.key=value");
+    std::string name = o.substr(0, eq);
+    toml::table parsed = parse_literal(name, o.substr(eq + 1), where);
+    insert_at(user, name, std::move(*parsed.get("v")), where);
+  }
+
+  check_table(user, "", fname);
+  check_conditions(user, "", user, fname);
+
+  // Resolved scene: declared defaults under the user's values. Wildcard
+  // keys get defaults only in the tables the user wrote.
+  toml::table resolved;
+  auto add_default = [&](const Key& key, const std::string& name)
+  {
+    toml::table d = toml::parse("v = " + key.default_value);
+    insert_at(resolved, name, std::move(*d.get("v")), "defaults");
+  };
+  for (const Key& key : keys())
+  {
+    if (!applies(key, user))
+      continue;
+    auto star = key.name.find('*');
+    if (star == std::string::npos)
+    {
+      add_default(key, key.name);
+      continue;
+    }
+    std::string table = key.name.substr(0, star - 1);
+    if (auto* t = user.at_path(table).as_table())
+      for (auto&& [part, v] : *t)
+        if (v.is_table())
+        {
+          // Tables with keys of their own (material.cornea) take no wildcards.
+          const std::string prefix = table + "." + std::string(part.str()) + ".";
+          bool declared = std::any_of(keys().begin(), keys().end(),
+                                      [&](const Key& k)
+                                      { return k.name.rfind(prefix, 0) == 0; });
+          std::string name = key.name;
+          name.replace(star, 1, std::string(part.str()));
+          if (!declared)
+            add_default(key, name);
+        }
+  }
+  // Overlay user values (their nodes keep their source for later errors).
+  std::function<void(const toml::table&, const std::string&)> overlay
+      = [&](const toml::table& t, const std::string& prefix)
+  {
+    for (auto&& [k, v] : t)
+    {
+      std::string name = prefix.empty() ? std::string(k.str())
+                                        : prefix + "." + std::string(k.str());
+      const Key* key = find_key(name);
+      if (v.is_table() && !(key && key->kind == Kind::options))
+        overlay(*v.as_table(), name);
+      else
+      {
+        toml::table holder;
+        holder.insert("v", v);
+        insert_at(resolved, name, std::move(*holder.get("v")), name);
+      }
+    }
+  };
+  overlay(user, "");
+
+  Scene scene(std::filesystem::absolute(file), std::move(resolved));
+  check_consistency(scene);
+  return scene;
+}
+
+const toml::node& Scene::node(const std::string& key) const
+{
+  const toml::node* n = _resolved.at_path(key).node();
+  if (!n)
+    throw std::logic_error("scene key '" + key + "' is not declared");
+  return *n;
+}
+
+bool Scene::has(const std::string& key) const
+{
+  return _resolved.at_path(key).node() != nullptr;
+}
+
+bool Scene::boolean(const std::string& key) const
+{
+  return node(key).value<bool>().value();
+}
+
+int Scene::integer(const std::string& key) const
+{
+  return static_cast<int>(node(key).value<std::int64_t>().value());
+}
+
+double Scene::real(const std::string& key) const
+{
+  return node(key).value<double>().value();
+}
+
+std::string Scene::string(const std::string& key) const
+{
+  return node(key).value<std::string>().value();
+}
+
+std::vector<std::string> Scene::strings(const std::string& key) const
+{
+  std::vector<std::string> out;
+  for (const auto& v : *node(key).as_array())
+    out.push_back(v.value<std::string>().value());
+  return out;
+}
+
+std::vector<std::array<double, 3>> Scene::points(const std::string& key) const
+{
+  std::vector<std::array<double, 3>> out;
+  for (const auto& p : *node(key).as_array())
+  {
+    const auto& a = *p.as_array();
+    out.push_back({a[0].value<double>().value(), a[1].value<double>().value(),
+                   a[2].value<double>().value()});
+  }
+  return out;
+}
+
+std::vector<std::pair<std::string, std::string>>
+Scene::options(const std::string& key) const
+{
+  std::vector<std::pair<std::string, std::string>> out;
+  for (auto&& [k, v] : *node(key).as_table())
+  {
+    std::ostringstream s;
+    if (v.is_string())
+      s << v.as_string()->get();
+    else
+      v.visit([&](auto&& x) { s << x; });
+    out.emplace_back(std::string(k.str()), s.str());
+  }
+  return out;
+}
+
+std::vector<std::string> Scene::tables(const std::string& key) const
+{
+  std::vector<std::string> out;
+  if (const auto* t = _resolved.at_path(key).as_table())
+    for (auto&& [k, v] : *t)
+      if (v.is_table())
+        out.emplace_back(k.str());
+  return out;
+}
+
+std::filesystem::path Scene::path(const std::string& key) const
+{
+  std::filesystem::path p = string(key);
+  return p.is_absolute() ? p : folder() / p;
+}
+
+std::string Scene::to_toml() const
+{
+  std::ostringstream s;
+  s << "# Resolved scene: " << _file.string()
+    << " with every default filled in.\n"
+    << _resolved << "\n";
+  return s.str();
+}
+
+std::string describe(bool markdown)
+{
+  std::ostringstream s;
+  if (markdown)
+    s << "| key | default | unit | accepted | description |\n"
+      << "|---|---|---|---|---|\n";
+  for (const Key& k : keys())
+  {
+    std::string acc = accepted(k);
+    if (!k.unit.empty())
+      acc = acc.substr(0, acc.rfind(" ["));
+    if (markdown)
+      s << "| `" << k.name << "` | `" << k.default_value << "` | "
+        << (k.unit.empty() ? "-" : k.unit) << " | " << acc << " | "
+        << k.description << " |\n";
+    else
+      s << k.name << " = " << k.default_value
+        << (k.unit.empty() ? "" : "  [" + k.unit + "]") << "\n    " << acc
+        << ". " << k.description << "\n";
+  }
+  return s.str();
+}
+
+} // namespace nct::scene

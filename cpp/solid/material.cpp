@@ -1,0 +1,99 @@
+#include "solid/material.h"
+
+#include "scene/scene.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace nct::solid
+{
+
+Material read_material(const scene::Scene& s, const std::string& part)
+{
+  const std::string m = "material." + part + ".";
+  const std::string model = s.string(m + "model");
+  Material mat{model == "hgo"           ? Law::hgo
+               : model == "neo_hookean" ? Law::neo_hookean
+                                        : Law::linear_elastic,
+               s.real(m + "c10"),
+               s.real(m + "k1"),
+               s.real(m + "k2"),
+               s.real(m + "kappa"),
+               s.real(m + "youngs_modulus"),
+               s.real(m + "poisson_ratio"),
+               {}};
+  if (s.has(m + "fibre_directions"))
+    mat.fibre_directions = s.points(m + "fibre_directions");
+  return mat;
+}
+
+CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
+                       const std::map<std::int32_t, std::string>& parts,
+                       const std::map<std::string, Material>& materials,
+                       const FibreRule& fibres,
+                       const std::shared_ptr<const dolfinx::fem::FunctionSpace>& scalar,
+                       const std::shared_ptr<const dolfinx::fem::FunctionSpace>& vector)
+{
+  using dolfinx::fem::Function;
+  CellFields f;
+  for (const char* name : {"c10", "k1", "k2", "kappa", "youngs_modulus",
+                           "poisson_ratio", "is_hgo", "is_neo_hookean",
+                           "is_linear_elastic"})
+    f[name] = std::make_shared<Function<double>>(scalar);
+  for (const char* name : {"fibre_1", "fibre_2"})
+    f[name] = std::make_shared<Function<double>>(vector);
+  f["fibre_1"]->name = "fibre_1";
+  f["fibre_2"]->name = "fibre_2";
+
+  const auto& mesh = *scalar->mesh();
+  const int tdim = mesh.topology().dim();
+  const std::int32_t num_cells = mesh.topology().index_map(tdim)->size_local()
+                                 + mesh.topology().index_map(tdim)->num_ghosts();
+  std::vector<std::int32_t> group(num_cells, -1);
+  for (std::size_t i = 0; i < cell_groups.indices().size(); ++i)
+    group[cell_groups.indices()[i]] = cell_groups.values()[i];
+
+  const auto& xg = mesh.geometry().x();
+  const auto& xdofs = mesh.geometry().dofmap();
+  const auto& sdofs = *scalar->dofmap();
+  const auto& vdofs = *vector->dofmap();
+  for (std::int32_t c = 0; c < num_cells; ++c)
+  {
+    auto part = parts.find(group[c]);
+    if (part == parts.end())
+      throw std::runtime_error("a cell belongs to no material part (volume group "
+                               + std::to_string(group[c]) + ")");
+    const Material& m = materials.at(part->second);
+    const std::int32_t d = sdofs.cell_dofs(c)[0];
+    // Benign values where a law's parameter is unused keep every kernel finite.
+    const bool hgo = m.law == Law::hgo;
+    f["c10"]->x()->mutable_array()[d] = m.c10;
+    f["k1"]->x()->mutable_array()[d] = hgo ? m.k1 : 0.0;
+    f["k2"]->x()->mutable_array()[d] = hgo ? m.k2 : 1.0;
+    f["kappa"]->x()->mutable_array()[d] = m.kappa;
+    f["youngs_modulus"]->x()->mutable_array()[d] = m.youngs_modulus;
+    f["poisson_ratio"]->x()->mutable_array()[d] = m.poisson_ratio;
+    f["is_hgo"]->x()->mutable_array()[d] = hgo;
+    f["is_neo_hookean"]->x()->mutable_array()[d] = m.law == Law::neo_hookean;
+    f["is_linear_elastic"]->x()->mutable_array()[d] = m.law == Law::linear_elastic;
+
+    std::array<double, 3> X{0, 0, 0};
+    auto nodes = xdofs.links(c);
+    for (auto n : nodes)
+      for (int j = 0; j < 3; ++j)
+        X[j] += xg[3 * n + j] / nodes.size();
+    auto a = hgo ? fibres(part->second, X)
+                 : std::array<std::array<double, 3>, 2>{};
+    const std::int32_t dv = vdofs.cell_dofs(c)[0];
+    for (int j = 0; j < 3; ++j)
+    {
+      f["fibre_1"]->x()->mutable_array()[3 * dv + j] = a[0][j];
+      f["fibre_2"]->x()->mutable_array()[3 * dv + j] = a[1][j];
+    }
+  }
+  for (auto& [name, fn] : f)
+    fn->x()->scatter_fwd();
+  return f;
+}
+
+} // namespace nct::solid

@@ -1,0 +1,58 @@
+// Material laws and their per-cell parameters.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <dolfinx/fem/Function.h>
+#include <dolfinx/mesh/MeshTags.h>
+
+namespace nct::scene
+{
+class Scene;
+}
+
+namespace nct::solid
+{
+
+/// Material laws; the values are the cell tags of forms/solid.py.
+enum class Law : std::int32_t
+{
+  hgo = 1,
+  neo_hookean = 2,
+  linear_elastic = 3
+};
+
+/// Parameters of one part (a volume group), read from [material.<part>].
+struct Material
+{
+  Law law;
+  double c10, k1, k2, kappa, youngs_modulus, poisson_ratio;
+  std::vector<std::array<double, 3>> fibre_directions; ///< file meshes only
+};
+
+/// Read [material.<part>] of a scene.
+Material read_material(const scene::Scene& scene, const std::string& part);
+
+/// Fibre directions (two families, zero when absent) of a part at a
+/// reference point.
+using FibreRule = std::function<std::array<std::array<double, 3>, 2>(
+    const std::string& part, const std::array<double, 3>& X)>;
+
+/// The per-cell (DG0) fields that forms/solid.py reads, by UFL name.
+using CellFields = std::map<std::string, std::shared_ptr<dolfinx::fem::Function<double>>>;
+
+/// Fill the per-cell fields from the parts' materials. `parts` maps a
+/// volume group tag to its part name; every cell must be in a part.
+CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
+                       const std::map<std::int32_t, std::string>& parts,
+                       const std::map<std::string, Material>& materials,
+                       const FibreRule& fibres,
+                       const std::shared_ptr<const dolfinx::fem::FunctionSpace>& scalar,
+                       const std::shared_ptr<const dolfinx::fem::FunctionSpace>& vector);
+
+} // namespace nct::solid

@@ -1,0 +1,270 @@
+#include "solid/problem.h"
+
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include <dolfinx/fem/assembler.h>
+#include <dolfinx/fem/petsc.h>
+#include <dolfinx/fem/utils.h>
+#include <dolfinx/geometry/BoundingBoxTree.h>
+#include <dolfinx/geometry/utils.h>
+#include <dolfinx/mesh/utils.h>
+
+#include "solid_p1_full.h"
+#include "solid_p1_reduced.h"
+#include "solid_p2_full.h"
+#include "solid_p2_reduced.h"
+
+namespace nct::solid
+{
+namespace
+{
+using namespace dolfinx;
+
+/// The compiled kernels of forms/solid.py for one element degree.
+struct Kernels
+{
+  ufcx_form* R;
+  ufcx_form* J;
+  ufcx_form* volume;
+  ufcx_expression* von_mises;
+  ufcx_function_space* (*space)(const char*);
+};
+
+#define NCT_SOLID_KERNELS(v)                                                     \
+  Kernels{form_solid_##v##_R, form_solid_##v##_J, form_solid_##v##_volume,       \
+          expression_solid_##v##_von_mises, functionspace_form_solid_##v##_R}
+
+Kernels kernels(int degree, bool reduced)
+{
+  if (degree == 1)
+    return reduced ? NCT_SOLID_KERNELS(p1_reduced) : NCT_SOLID_KERNELS(p1_full);
+  if (degree == 2)
+    return reduced ? NCT_SOLID_KERNELS(p2_reduced) : NCT_SOLID_KERNELS(p2_full);
+  throw std::invalid_argument("fem.degree must be 1 or 2");
+}
+
+/// Facet tags of forms/solid.py.
+constexpr std::int32_t cavity_wall_tag = 1, surface_load_tag = 2;
+
+/// The coordinate axis normal to every facet of a group (all ranks agree);
+/// throws if the group is not a plane x_i = const.
+int normal_axis(const mesh::Mesh& mesh, const mesh::MeshTags<std::int32_t>& facets,
+                std::int32_t group)
+{
+  std::vector<std::int32_t> list = facets.find(group);
+  auto geo = mesh::entities_to_geometry(mesh, 2, list, false);
+  const auto& x = mesh.geometry().x();
+  int axis = -1;
+  bool ok = true;
+  for (std::size_t f = 0; f < geo.size() / 3; ++f)
+  {
+    std::array<double, 3> a, b, n;
+    for (int j = 0; j < 3; ++j)
+    {
+      a[j] = x[3 * geo[3 * f + 1] + j] - x[3 * geo[3 * f] + j];
+      b[j] = x[3 * geo[3 * f + 2] + j] - x[3 * geo[3 * f] + j];
+    }
+    n = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+         a[0] * b[1] - a[1] * b[0]};
+    double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    int i = static_cast<int>(std::max_element(n.begin(), n.end(),
+                                              [](double p, double q)
+                                              { return std::abs(p) < std::abs(q); })
+                             - n.begin());
+    ok = ok && std::abs(n[i]) > (1 - 1e-8) * norm && (axis < 0 || axis == i);
+    axis = i;
+  }
+  int lo = axis < 0 ? 3 : axis, hi = axis, all_ok = ok;
+  MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_INT, MPI_MIN, mesh.comm());
+  MPI_Allreduce(MPI_IN_PLACE, &hi, 1, MPI_INT, MPI_MAX, mesh.comm());
+  MPI_Allreduce(MPI_IN_PLACE, &all_ok, 1, MPI_INT, MPI_MIN, mesh.comm());
+  if (!all_ok || lo != hi || hi < 0)
+    return -1;
+  return hi;
+}
+
+} // namespace
+
+Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
+                 const std::map<std::int32_t, std::string>& parts,
+                 const std::map<std::string, Material>& materials,
+                 const FibreRule& fibres, const Boundaries& boundaries,
+                 std::array<double, 3> volume_origin)
+{
+  const Kernels k = kernels(degree, reduced_quadrature);
+  auto V = std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(k.space, "u", m.mesh));
+  auto Q0 = std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(k.space, "c10", m.mesh));
+  auto Q0v = std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(k.space, "fibre_1", m.mesh));
+  u = std::make_shared<fem::Function<double>>(V);
+  u->name = "displacement";
+  von_mises = std::make_shared<fem::Function<double>>(Q0);
+  von_mises->name = "von_mises_stress";
+  fields = cell_fields(*m.cells, parts, materials, fibres, Q0, Q0v);
+
+  // Integration tags: cells by law, facets by load.
+  std::map<std::int32_t, std::int32_t> law_of_group, load_of_group;
+  for (auto& [group, part] : parts)
+    law_of_group[group] = static_cast<std::int32_t>(materials.at(part).law);
+  for (auto g : boundaries.cavity_wall)
+    load_of_group[g] = cavity_wall_tag;
+  for (auto g : boundaries.surface_load)
+    load_of_group[g] = surface_load_tag;
+  _law_tags = std::make_shared<mesh::MeshTags<std::int32_t>>(
+      meshio::retag(*m.cells, law_of_group));
+  _load_tags = std::make_shared<mesh::MeshTags<std::int32_t>>(
+      meshio::retag(*m.facets, load_of_group));
+
+  _p_cavity = std::make_shared<fem::Constant<double>>(0.0);
+  _p_surface = std::make_shared<fem::Constant<double>>(0.0);
+  _x0 = std::make_shared<fem::Constant<double>>(
+      std::vector<double>(volume_origin.begin(), volume_origin.end()));
+
+  std::map<std::string, std::shared_ptr<const fem::Function<double>>> coeffs;
+  coeffs["u"] = u;
+  for (auto& [name, f] : fields)
+    coeffs[name] = f;
+  const std::map<std::string, std::shared_ptr<const fem::Constant<double>>> loads
+      = {{"p_cavity", _p_cavity}, {"p_surface", _p_surface}};
+  const std::map<fem::IntegralType, const mesh::MeshTags<int>*> subdomains
+      = {{fem::IntegralType::cell, _law_tags.get()},
+         {fem::IntegralType::exterior_facet, _load_tags.get()}};
+  auto pick = [&](const ufcx_form& form)
+  {
+    std::map<std::string, std::shared_ptr<const fem::Function<double>>> c;
+    for (const auto& name : fem::get_coefficient_names(form))
+      c[name] = coeffs.at(name);
+    return c;
+  };
+  _R = std::make_shared<fem::Form<double>>(
+      fem::create_form<double>(*k.R, {V}, pick(*k.R), loads, subdomains));
+  _J = std::make_shared<fem::Form<double>>(
+      fem::create_form<double>(*k.J, {V, V}, pick(*k.J), loads, subdomains));
+  _volume = std::make_shared<fem::Form<double>>(fem::create_form<double>(
+      *k.volume, {}, pick(*k.volume), {{"x0", _x0}}, subdomains, m.mesh));
+  _von_mises = std::make_shared<fem::Expression<double>>(
+      fem::create_expression<double>(*k.von_mises, coeffs, {}, m.mesh));
+
+  // Dirichlet conditions: clamped groups, and one component per symmetry plane.
+  auto facets_of = [&](std::int32_t g) { return m.facets->find(g); };
+  for (auto g : boundaries.fixed)
+  {
+    auto dofs = fem::locate_dofs_topological(*V, 2, facets_of(g));
+    _bcs.push_back(std::make_shared<fem::DirichletBC<double>>(
+        std::vector<double>{0, 0, 0}, std::move(dofs), V));
+  }
+  std::set<int> axes;
+  for (auto g : boundaries.symmetry)
+  {
+    int axis = normal_axis(*m.mesh, *m.facets, g);
+    if (axis < 0)
+    {
+      std::string name = std::to_string(g);
+      for (auto& [n, t] : m.groups.surfaces)
+        if (t == g)
+          name = n;
+      throw std::runtime_error("symmetry group '" + name
+                               + "' is not a plane x, y or z = const");
+    }
+    axes.insert(axis);
+    auto Vi = V->sub({axis});
+    auto dofs = fem::locate_dofs_topological(*Vi, 2, facets_of(g));
+    _bcs.push_back(
+        std::make_shared<fem::DirichletBC<double>>(0.0, std::move(dofs), Vi));
+  }
+  _symmetry_factor = 1 << axes.size();
+}
+
+void Problem::set_pressures(double cavity, double surface)
+{
+  _p_cavity->value = {cavity};
+  _p_surface->value = {surface};
+}
+
+void Problem::residual(la::Vector<double>& b)
+{
+  std::fill(b.mutable_array().begin(), b.mutable_array().end(), 0.0);
+  fem::assemble_vector<double>(b.mutable_array(), *_R);
+  b.scatter_rev(std::plus<double>());
+  fem::set_bc<double>(b.mutable_array(), _bcs, u->x()->array(), -1.0);
+}
+
+void Problem::jacobian(Mat A)
+{
+  MatZeroEntries(A);
+  fem::assemble_matrix(la::petsc::Matrix::set_block_fn(A, ADD_VALUES), *_J, _bcs);
+  MatAssemblyBegin(A, MAT_FLUSH_ASSEMBLY);
+  MatAssemblyEnd(A, MAT_FLUSH_ASSEMBLY);
+  fem::set_diagonal<double>(la::petsc::Matrix::set_fn(A, INSERT_VALUES),
+                            *_J->function_spaces()[0], _bcs);
+  MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
+}
+
+Mat Problem::create_matrix() const { return fem::petsc::create_matrix(*_J, "aij"); }
+
+double Problem::cavity_volume() const
+{
+  double v = fem::assemble_scalar(*_volume);
+  MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_DOUBLE, MPI_SUM, u->function_space()->mesh()->comm());
+  return _symmetry_factor * v;
+}
+
+std::vector<std::array<double, 3>>
+Problem::displacement_at(const std::vector<std::array<double, 3>>& points) const
+{
+  const auto& mesh = *u->function_space()->mesh();
+  std::vector<double> x;
+  for (auto& p : points)
+    x.insert(x.end(), p.begin(), p.end());
+  geometry::BoundingBoxTree tree(mesh, 3, 1e-8);
+  auto candidates = geometry::compute_collisions(tree, x);
+  auto cells = geometry::compute_colliding_cells(mesh, candidates, x);
+  std::vector<double> sum(4 * points.size(), 0.0);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (auto c = cells.links(static_cast<int>(i)); !c.empty())
+    {
+      std::array<double, 3> value;
+      std::int32_t cell = c[0];
+      u->eval(std::span<const double>(x.data() + 3 * i, 3), {1, 3},
+              std::span<const std::int32_t>(&cell, 1), value, {1, 3});
+      for (int j = 0; j < 3; ++j)
+        sum[4 * i + j] = value[j];
+      sum[4 * i + 3] = 1;
+    }
+  MPI_Allreduce(MPI_IN_PLACE, sum.data(), static_cast<int>(sum.size()), MPI_DOUBLE,
+                MPI_SUM, mesh.comm());
+  std::vector<std::array<double, 3>> out(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    if (sum[4 * i + 3] == 0)
+      throw std::runtime_error("probe point (" + std::to_string(points[i][0]) + ", "
+                               + std::to_string(points[i][1]) + ", "
+                               + std::to_string(points[i][2])
+                               + ") is outside the mesh");
+    for (int j = 0; j < 3; ++j)
+      out[i][j] = sum[4 * i + j] / sum[4 * i + 3];
+  }
+  return out;
+}
+
+std::shared_ptr<const fem::FunctionSpace> Problem::coordinate_space() const
+{
+  auto mesh = std::const_pointer_cast<mesh::Mesh>(u->function_space()->mesh());
+  return std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(functionspace_form_solid_p1_full_R, "u", mesh));
+}
+
+void Problem::update_von_mises() { von_mises->interpolate(*_von_mises); }
+
+std::int64_t Problem::dofs() const
+{
+  auto V = u->function_space();
+  return V->dofmap()->index_map->size_global() * V->dofmap()->index_map_bs();
+}
+
+} // namespace nct::solid

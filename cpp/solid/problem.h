@@ -1,0 +1,80 @@
+// The quasi-static solid (formulation forms/solid.py): unknown u only.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include <dolfinx/fem/Constant.h>
+#include <dolfinx/fem/DirichletBC.h>
+#include <dolfinx/fem/Expression.h>
+#include <dolfinx/fem/Form.h>
+#include <dolfinx/fem/Function.h>
+#include <dolfinx/la/Vector.h>
+#include <dolfinx/la/petsc.h>
+
+#include "meshio/model.h"
+#include "solid/material.h"
+
+namespace nct::solid
+{
+
+/// Facet groups (tags of mesh::Tagged::facets) by boundary condition.
+struct Boundaries
+{
+  std::vector<std::int32_t> fixed;        ///< u = 0
+  std::vector<std::int32_t> symmetry;     ///< u . n = 0 on axis-aligned planes
+  std::vector<std::int32_t> cavity_wall;  ///< the cavity pressure acts here
+  std::vector<std::int32_t> surface_load; ///< the surface pressure acts here
+};
+
+/// Residual, Jacobian and derived quantities of the solid at the current u.
+class Problem
+{
+public:
+  /// `degree` of the displacement; `reduced_quadrature` integrates cells
+  /// at degree 2(degree-1) instead of 2 degree; `fibres` gives the fibre
+  /// directions of a part at a reference point; `volume_origin` is the
+  /// point the cavity volume is taken about.
+  Problem(const meshio::Tagged& mesh, int degree, bool reduced_quadrature,
+          const std::map<std::int32_t, std::string>& parts,
+          const std::map<std::string, Material>& materials,
+          const FibreRule& fibres, const Boundaries& boundaries,
+          std::array<double, 3> volume_origin);
+
+  /// Pressures [MPa] of the cavity and of the loaded surface.
+  void set_pressures(double cavity, double surface);
+
+  /// b = R(u), with b = u - g on Dirichlet dofs.
+  void residual(dolfinx::la::Vector<double>& b);
+  /// A = dR/du with identity rows on Dirichlet dofs.
+  void jacobian(Mat A);
+  /// Zero Jacobian with the sparsity of dR/du.
+  Mat create_matrix() const;
+
+  /// Whole-model cavity volume (the meshed part times the symmetry factor).
+  double cavity_volume() const;
+  /// Displacement at reference points (every rank gets every value).
+  std::vector<std::array<double, 3>>
+  displacement_at(const std::vector<std::array<double, 3>>& points) const;
+  /// Vector P1 space: the mesh's coordinate element, for output.
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> coordinate_space() const;
+  /// Von Mises stress per cell (for output).
+  void update_von_mises();
+
+  std::shared_ptr<dolfinx::fem::Function<double>> u;          ///< displacement [mm]
+  std::shared_ptr<dolfinx::fem::Function<double>> von_mises;  ///< [MPa], DG0
+  CellFields fields;                                          ///< materials and fibres
+  std::int64_t dofs() const;
+  int symmetry_factor() const { return _symmetry_factor; }
+
+private:
+  std::shared_ptr<dolfinx::fem::Form<double>> _R, _J, _volume;
+  std::shared_ptr<dolfinx::fem::Expression<double>> _von_mises;
+  std::shared_ptr<dolfinx::fem::Constant<double>> _p_cavity, _p_surface, _x0;
+  std::vector<std::shared_ptr<const dolfinx::fem::DirichletBC<double>>> _bcs;
+  std::shared_ptr<dolfinx::mesh::MeshTags<std::int32_t>> _law_tags, _load_tags;
+  int _symmetry_factor = 1;
+};
+
+} // namespace nct::solid

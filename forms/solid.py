@@ -1,0 +1,87 @@
+"""Formulation `solid`: quasi-static finite-strain solid, unknown u only.
+
+Find u such that, for every admissible v,
+
+    sum_laws integral_{Omega_law} P_law(F) : grad v dX            (internal work)
+  + integral_{cavity wall} p_cavity J F^-T N . v dA              (cavity pressure)
+  + integral_{loaded surface} p_surface J F^-T N . v dA = 0      (surface pressure)
+
+with P = dPsi/dF. Cells carry the tag of their material law, facets the
+tag of their load. Material parameters and fibres are per-cell (DG0)
+fields, so any number of parts can share one law.
+
+`degree` (1 or 2) and `quadrature_degree` of the cell integrals are set
+by the CMake wrapper that includes this file (nct_add_form). Facet
+integrals always use 2 * degree.
+"""
+from ufl import (Coefficient, Constant, FacetNormal, FiniteElement, Measure,
+                 TestFunction, TrialFunction, VectorElement, derivative, det,
+                 diff, inner, grad, sqrt, tetrahedron, tr, Identity)
+
+import cavity
+import hgo
+import kinematics
+import linear_elastic
+import neo_hookean
+
+# Integration tags, shared with cpp/solid/tags.h.
+HGO, NEO_HOOKEAN, LINEAR_ELASTIC = 1, 2, 3      # cell tags: material law
+CAVITY_WALL, SURFACE_LOAD = 1, 2                 # facet tags: load
+
+element = VectorElement("Lagrange", tetrahedron, degree)  # noqa: F821 (set by the wrapper)
+cell_scalar = FiniteElement("DG", tetrahedron, 0)
+cell_vector = VectorElement("DG", tetrahedron, 0)
+
+v = TestFunction(element)
+du = TrialFunction(element)
+u = Coefficient(element)            # displacement [mm]
+
+# Per-cell material fields
+c10 = Coefficient(cell_scalar)      # matrix stiffness [MPa]
+k1 = Coefficient(cell_scalar)       # fibre stiffness [MPa]
+k2 = Coefficient(cell_scalar)       # fibre nonlinearity [-]
+kappa = Coefficient(cell_scalar)    # bulk modulus [MPa]
+youngs_modulus = Coefficient(cell_scalar)  # [MPa]
+poisson_ratio = Coefficient(cell_scalar)   # [-]
+fibre_1 = Coefficient(cell_vector)  # first fibre family (unit or zero)
+fibre_2 = Coefficient(cell_vector)  # second fibre family (unit or zero)
+
+# Loads [MPa]
+p_cavity = Constant(tetrahedron)
+p_surface = Constant(tetrahedron)
+
+# Fixed quadrature degrees: UFL's estimate explodes on exp() (toolchain.md).
+dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
+ds = Measure("ds", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
+
+F = kinematics.deformation_gradient(u)
+N = FacetNormal(tetrahedron)
+
+psi_hgo = hgo.energy(F, c10, k1, k2, kappa, fibre_1, fibre_2)
+psi_neo_hookean = neo_hookean.energy(F, c10, kappa)
+psi_linear_elastic = linear_elastic.energy(F, youngs_modulus, poisson_ratio)
+
+R = (inner(diff(psi_hgo, F), grad(v)) * dx(HGO)
+     + inner(diff(psi_neo_hookean, F), grad(v)) * dx(NEO_HOOKEAN)
+     + inner(diff(psi_linear_elastic, F), grad(v)) * dx(LINEAR_ELASTIC)
+     + cavity.follower_pressure(p_cavity, F, N, v) * ds(CAVITY_WALL)
+     + cavity.follower_pressure(p_surface, F, N, v) * ds(SURFACE_LOAD))
+J = derivative(R, u, du)
+
+# Enclosed cavity volume (quarter model, no symmetry factor) about x0.
+x0 = Constant(tetrahedron, shape=(3,))
+volume = cavity.volume(u, F, N, x0) * ds(CAVITY_WALL)
+
+# Von Mises equivalent of the Cauchy stress, per cell: the law indicators
+# pick the stress of the cell's own law (1 on its cells, 0 elsewhere).
+is_hgo = Coefficient(cell_scalar)
+is_neo_hookean = Coefficient(cell_scalar)
+is_linear_elastic = Coefficient(cell_scalar)
+P = (is_hgo * diff(psi_hgo, F) + is_neo_hookean * diff(psi_neo_hookean, F)
+     + is_linear_elastic * diff(psi_linear_elastic, F))
+sigma = kinematics.cauchy_stress(P, F)
+s = sigma - tr(sigma) / 3.0 * Identity(3)
+von_mises = sqrt(1.5 * inner(s, s))
+
+forms = [R, J, volume]
+expressions = [(von_mises, [[0.25, 0.25, 0.25]])]
