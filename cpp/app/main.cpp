@@ -75,6 +75,7 @@ int main(int argc, char* argv[])
     auto scene = nct::scene::Scene::load(scene_file, sets);
     if (check->parsed())
     {
+      nct::check(MPI_COMM_WORLD, scene);
       if (rank == 0)
         std::cout << scene_file << ": ok\n";
     }

@@ -23,16 +23,6 @@ int rank(MPI_Comm comm)
   return r;
 }
 
-/// Broadcast a string from rank 0.
-std::string broadcast(MPI_Comm comm, std::string s)
-{
-  std::uint64_t n = s.size();
-  MPI_Bcast(&n, 1, MPI_UINT64_T, 0, comm);
-  s.resize(n);
-  MPI_Bcast(s.data(), static_cast<int>(n), MPI_CHAR, 0, comm);
-  return s;
-}
-
 /// Elements of one gmsh type on every entity of a physical group.
 void group_elements(int dim, int group, int type,
                     std::vector<std::size_t>& nodes)
@@ -48,6 +38,15 @@ void group_elements(int dim, int group, int type,
 }
 
 } // namespace
+
+std::string broadcast(MPI_Comm comm, std::string s)
+{
+  std::uint64_t n = s.size();
+  MPI_Bcast(&n, 1, MPI_UINT64_T, 0, comm);
+  s.resize(n);
+  MPI_Bcast(s.data(), static_cast<int>(n), MPI_CHAR, 0, comm);
+  return s;
+}
 
 Groups groups_of_current_model(MPI_Comm comm)
 {
@@ -88,18 +87,14 @@ Groups open(MPI_Comm comm, const std::filesystem::path& file)
     {
       gmsh::clear();
       gmsh::open(file.string());
-      if (file.extension() == ".geo")
-        gmsh::model::mesh::generate(3);
-      std::vector<int> types;
-      gmsh::model::mesh::getElementTypes(types, 3);
-      if (std::find(types.begin(), types.end(), 4) == types.end())
-        error = file.string() + ": no linear tetrahedra in the mesh";
-      else if (types.size() != 1)
-        error = file.string() + ": only linear tetrahedra are supported";
     }
     catch (const std::exception& e)
     {
       error = file.string() + ": gmsh could not read it: " + e.what();
+    }
+    catch (const std::string& e) // gmsh 4.8 throws strings
+    {
+      error = file.string() + ": gmsh could not read it: " + e;
     }
   }
   error = broadcast(comm, error);
@@ -112,6 +107,29 @@ Model extract(MPI_Comm comm)
 {
   Model m;
   m.groups = groups_of_current_model(comm);
+  std::string error;
+  if (rank(comm) == 0)
+  {
+    // A geometry without a mesh (a .geo) is meshed here.
+    std::vector<int> types;
+    gmsh::model::mesh::getElementTypes(types, 3);
+    if (types.empty())
+    {
+      try
+      {
+        gmsh::model::mesh::generate(3);
+      }
+      catch (const std::string& e) // gmsh 4.8 throws strings
+      {
+        error = "gmsh could not mesh the geometry: " + e;
+      }
+      gmsh::model::mesh::getElementTypes(types, 3);
+    }
+    if (error.empty() && types != std::vector<int>{4})
+      error = "the mesh must consist of linear tetrahedra (gmsh type 4)";
+  }
+  if (error = broadcast(comm, error); !error.empty())
+    throw std::runtime_error(error);
   if (rank(comm) != 0)
     return m;
 

@@ -34,14 +34,18 @@ struct Model
   Groups groups;                         ///< known on every rank
 };
 
+/// Broadcast a string from rank 0 (e.g. an error met there) to every rank.
+std::string broadcast(MPI_Comm comm, std::string s);
+
 /// The physical groups of the current gmsh model (rank 0), on every rank.
 Groups groups_of_current_model(MPI_Comm comm);
 
-/// Open a .msh or .geo file as the current gmsh model on rank 0 (a .geo
-/// is meshed in 3D); errors name the file. Returns its groups on every rank.
+/// Open a .msh or .geo file as the current gmsh model on rank 0 (a .geo is
+/// parsed, not meshed); errors name the file. Returns its groups on every rank.
 Groups open(MPI_Comm comm, const std::filesystem::path& file);
 
-/// Linear tetrahedra and tagged triangles of the current gmsh model (rank 0).
+/// Linear tetrahedra and tagged triangles of the current gmsh model (rank
+/// 0), meshing it in 3D first if it has no volume mesh yet.
 Model extract(MPI_Comm comm);
 
 /// A distributed mesh with its physical-group tags.

@@ -42,7 +42,7 @@ struct MeshSetup
 };
 
 std::int32_t surface_tag(const meshio::Groups& g, const std::string& name,
-                         const std::string& key)
+                         const std::string& file, const std::string& key)
 {
   auto it = g.surfaces.find(name);
   if (it == g.surfaces.end())
@@ -50,13 +50,24 @@ std::int32_t surface_tag(const meshio::Groups& g, const std::string& name,
     std::string known;
     for (auto& [n, t] : g.surfaces)
       known += (known.empty() ? "" : ", ") + n;
-    throw scene::Error("key '" + key + "': the mesh has no surface group '" + name
+    throw scene::Error(file + ": key '" + key + "': the mesh has no surface group '" + name
                        + "' (it has: " + known + ")");
   }
   return it->second;
 }
 
-MeshSetup eye_mesh(MPI_Comm comm, const scene::Scene& s)
+/// gmsh for the span of a scope, quiet.
+struct GmshSession
+{
+  GmshSession()
+  {
+    gmsh::initialize();
+    gmsh::option::setNumber("General.Terminal", 0);
+  }
+  ~GmshSession() { gmsh::finalize(); }
+};
+
+eye::Geometry eye_geometry(const scene::Scene& s)
 {
   eye::Geometry g;
   g.cornea_anterior_radius = s.real("geometry.cornea_anterior_radius");
@@ -67,34 +78,83 @@ MeshSetup eye_mesh(MPI_Comm comm, const scene::Scene& s)
   g.sclera_outer_radius = s.real("geometry.sclera_outer_radius");
   g.sclera_thickness = s.real("geometry.sclera_thickness");
   g.cut_y = s.real("geometry.cut_y");
+  return g;
+}
+
+/// The eye's derived shape; an impossible geometry is a scene error.
+eye::Derived eye_derived(const scene::Scene& s)
+{
+  try
+  {
+    return eye::derive(eye_geometry(s));
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw scene::Error(s.file().string() + ": " + e.what());
+  }
+}
+
+/// An external mesh's groups against the scene's materials and boundaries.
+void check_file_groups(const scene::Scene& s, const meshio::Groups& groups)
+{
+  const std::string file = s.file().string();
+  auto materials = s.tables("material");
+  for (auto& [name, tag] : groups.volumes)
+    if (std::find(materials.begin(), materials.end(), name) == materials.end())
+      throw scene::Error(file + ": volume group '" + name + "' of " + s.string("mesh.file")
+                         + " has no [material." + name + "] table");
+  for (auto& name : materials)
+    if (!groups.volumes.count(name))
+      throw scene::Error(file + ": key 'material." + name
+                         + "': the mesh has no volume group '" + name + "'");
+  for (const char* key : {"boundary.fixed", "boundary.symmetry", "boundary.cavity_wall",
+                          "boundary.surface_load"})
+    for (auto& name : s.strings(key))
+      surface_tag(groups, name, file, key);
+}
+
+MeshSetup eye_mesh(MPI_Comm comm, const scene::Scene& s)
+{
+  const eye::Geometry g = eye_geometry(s);
+  const eye::Derived d = eye_derived(s);
   eye::Refinement r;
   r.layers = s.integer("mesh.layers");
   r.size_cornea = s.real("mesh.size_cornea");
   r.size_limbus = s.real("mesh.size_limbus");
   r.size_sclera = s.real("mesh.size_sclera");
 
-  eye::Derived d;
-  try
-  {
-    d = eye::derive(g);
-  }
-  catch (const std::invalid_argument& e)
-  {
-    throw scene::Error(s.file().string() + ": " + e.what());
-  }
-
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
+  // Meshing runs on rank 0; what fails there stops every rank.
+  std::string error, bad_input;
   if (rank == 0)
-    eye::build(g, r);
+  {
+    try
+    {
+      eye::build(g, r);
+    }
+    catch (const std::invalid_argument& e)
+    {
+      bad_input = e.what();
+    }
+    catch (const std::exception& e)
+    {
+      error = e.what();
+    }
+  }
+  if (bad_input = meshio::broadcast(comm, bad_input); !bad_input.empty())
+    throw scene::Error(s.file().string() + ": " + bad_input);
+  if (error = meshio::broadcast(comm, error); !error.empty())
+    throw std::runtime_error("meshing the eye failed: " + error);
   MeshSetup m{meshio::distribute(comm, meshio::extract(comm)), {}, {}, {}, {}, {}, {}};
   for (auto& [name, tag] : m.mesh.groups.volumes)
     m.parts[tag] = name;
   const auto& gs = m.mesh.groups;
-  m.boundaries.fixed = {surface_tag(gs, "fixed", "mesh")};
-  m.boundaries.symmetry = {surface_tag(gs, "symmetry_x", "mesh"),
-                           surface_tag(gs, "symmetry_z", "mesh")};
-  m.boundaries.cavity_wall = {surface_tag(gs, "cavity_wall", "mesh")};
+  const std::string eye_model = "the eye model";
+  m.boundaries.fixed = {surface_tag(gs, "fixed", eye_model, "mesh")};
+  m.boundaries.symmetry = {surface_tag(gs, "symmetry_x", eye_model, "mesh"),
+                           surface_tag(gs, "symmetry_z", eye_model, "mesh")};
+  m.boundaries.cavity_wall = {surface_tag(gs, "cavity_wall", eye_model, "mesh")};
   m.fibres = [g](const std::string& part, const std::array<double, 3>& X)
   {
     eye::Part p = part == "cornea"   ? eye::Part::cornea
@@ -112,23 +172,14 @@ MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s)
 {
   const std::string file = s.file().string();
   meshio::Groups groups = meshio::open(comm, s.path("mesh.file"));
-
-  // Every volume group has a material and every material a volume group.
+  check_file_groups(s, groups);
   auto materials = s.tables("material");
-  for (auto& [name, tag] : groups.volumes)
-    if (std::find(materials.begin(), materials.end(), name) == materials.end())
-      throw scene::Error(file + ": volume group '" + name + "' of " + s.string("mesh.file")
-                         + " has no [material." + name + "] table");
-  for (auto& name : materials)
-    if (!groups.volumes.count(name))
-      throw scene::Error(file + ": key 'material." + name + "': the mesh has no volume group '"
-                         + name + "'");
   solid::Boundaries b;
   auto tags = [&](const std::string& key)
   {
     std::vector<std::int32_t> t;
     for (auto& name : s.strings(key))
-      t.push_back(surface_tag(groups, name, key));
+      t.push_back(surface_tag(groups, name, file, key));
     return t;
   };
   b.fixed = tags("boundary.fixed");
@@ -165,8 +216,20 @@ nlohmann::json vec(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; 
 
 } // namespace
 
+void check(MPI_Comm comm, const scene::Scene& s)
+{
+  if (s.string("mesh.source") == "eye")
+    eye_derived(s);
+  else
+  {
+    GmshSession gmsh_session;
+    check_file_groups(s, meshio::open(comm, s.path("mesh.file")));
+  }
+}
+
 nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& options)
 {
+  check(comm, s);
   const double t_start = MPI_Wtime();
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
@@ -182,11 +245,12 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
 
   // Mesh
   double t = MPI_Wtime();
-  gmsh::initialize();
-  gmsh::option::setNumber("General.Terminal", 0);
   const bool eye = s.string("mesh.source") == "eye";
-  MeshSetup m = eye ? eye_mesh(comm, s) : file_mesh(comm, s);
-  gmsh::finalize();
+  MeshSetup m = [&]
+  {
+    GmshSession gmsh_session;
+    return eye ? eye_mesh(comm, s) : file_mesh(comm, s);
+  }();
   for (auto& p : s.points("output.probes"))
   {
     m.probes.push_back(p);
@@ -212,7 +276,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
 
   const solver::NewtonSettings settings{
       s.integer("solver.max_iterations"), s.real("solver.rtol"), s.real("solver.atol"),
-      s.string("solver.line_search") == "backtracking"};
+      s.string("solver.line_search") == "energy"};
   const double iop = s.real("loading.iop"), surface = s.real("loading.surface_pressure");
   const int steps = s.integer("loading.steps"), max_cuts = s.integer("solver.max_step_cuts");
 

@@ -30,6 +30,11 @@ struct RunOptions
   std::vector<std::pair<std::string, std::string>> petsc; ///< overrides the scene's
 };
 
+/// The checks of a scene that need more than its keys: the eye's geometry,
+/// an external mesh's groups against the scene's materials and boundaries.
+/// Nothing is meshed; throws scene::Error.
+void check(MPI_Comm comm, const scene::Scene& scene);
+
 /// Run a scene (static inflation by a pressure ramp) into a run folder and
 /// return its summary (also written to out/summary.json).
 nlohmann::json run(MPI_Comm comm, const scene::Scene& scene, const RunOptions& options);

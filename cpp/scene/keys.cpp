@@ -134,9 +134,11 @@ std::vector<Key> declare()
                "Newton: residual norm relative to the step's first residual"});
   k.push_back({"solver.atol", K::real, "1e-11", "N", 0, 1, {},
                "Newton: absolute residual norm"});
-  k.push_back({"solver.line_search", K::choice, "\"backtracking\"", "", -inf, inf,
-               {"backtracking", "none"},
-               "Newton globalisation: backtracking on the residual norm, or full steps"});
+  k.push_back({"solver.line_search", K::choice, "\"energy\"", "", -inf, inf,
+               {"energy", "none"},
+               "Newton step length: energy = secant search for the zero of the "
+               "residual projected on the step (non-finite residuals halve it); "
+               "none = full steps"});
   k.push_back({"solver.max_step_cuts", K::integer, "8", "", 0, 30, {},
                "times a failed load step may be halved before the run stops"});
   k.push_back({"solver.petsc", K::options, "{}", "", -inf, inf, {},

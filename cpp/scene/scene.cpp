@@ -513,14 +513,16 @@ std::string describe(bool markdown)
     std::string acc = accepted(k);
     if (!k.unit.empty())
       acc = acc.substr(0, acc.rfind(" ["));
+    const std::string when
+        = k.when.empty() ? "" : " (only when " + k.when + ")";
     if (markdown)
       s << "| `" << k.name << "` | `" << k.default_value << "` | "
         << (k.unit.empty() ? "-" : k.unit) << " | " << acc << " | "
-        << k.description << " |\n";
+        << k.description << when << " |\n";
     else
       s << k.name << " = " << k.default_value
         << (k.unit.empty() ? "" : "  [" + k.unit + "]") << "\n    " << acc
-        << ". " << k.description << "\n";
+        << ". " << k.description << when << "\n";
   }
   return s.str();
 }

@@ -1,5 +1,6 @@
 #include "solver/newton.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -19,6 +20,17 @@ double norm(const dolfinx::la::Vector<double>& b)
     s += b.array()[i] * b.array()[i];
   MPI_Allreduce(MPI_IN_PLACE, &s, 1, MPI_DOUBLE, MPI_SUM, b.map()->comm());
   return std::sqrt(s);
+}
+
+/// Global dot product of two vectors (owned entries).
+double dot(const dolfinx::la::Vector<double>& a, const dolfinx::la::Vector<double>& b)
+{
+  const std::int32_t n = a.map()->size_local() * a.bs();
+  double s = 0;
+  for (std::int32_t i = 0; i < n; ++i)
+    s += a.array()[i] * b.array()[i];
+  MPI_Allreduce(MPI_IN_PLACE, &s, 1, MPI_DOUBLE, MPI_SUM, a.map()->comm());
+  return s;
 }
 
 } // namespace
@@ -56,7 +68,7 @@ NewtonReport Newton::solve(dolfinx::la::Vector<double>& x,
 {
   NewtonReport report;
   dolfinx::la::Vector<double> b(x.map(), x.bs()), dx(x.map(), x.bs()),
-      x_old(x.map(), x.bs());
+      x_old(x.map(), x.bs()), b_start(x.map(), x.bs());
   Vec b_petsc = dolfinx::la::petsc::create_vector_wrap(b);
   Vec dx_petsc = dolfinx::la::petsc::create_vector_wrap(dx);
 
@@ -104,9 +116,12 @@ NewtonReport Newton::solve(dolfinx::la::Vector<double>& x,
       break;
     }
     dx.scatter_fwd();
+    std::copy(b.array().begin(), b.array().end(), b_start.mutable_array().begin());
 
-    // Backtracking: halve the step until the residual norm decreases
-    // (Armijo); fall back to the best finite decrease seen.
+    // Step length. x(alpha) = x_old - alpha dx. "energy": find alpha where
+    // the residual is orthogonal to the step, g(alpha) = dx . R(x(alpha))
+    // = 0 (the energy's directional derivative), by secant steps from
+    // alpha = 1; a non-finite residual halves alpha. Full steps otherwise.
     std::copy(x.array().begin(), x.array().end(), x_old.mutable_array().begin());
     auto take = [&](double alpha)
     {
@@ -115,29 +130,23 @@ NewtonReport Newton::solve(dolfinx::la::Vector<double>& x,
       return assemble_residual();
     };
     double alpha = 1.0, r_new = take(alpha);
-    if (settings.line_search)
+    while (!std::isfinite(r_new) && alpha > 1.0 / 64)
+      r_new = take(alpha /= 2);
+    if (settings.line_search && std::isfinite(r_new))
     {
-      double best_alpha = std::isfinite(r_new) ? alpha : 0.0;
-      double best_r = std::isfinite(r_new) ? r_new : r;
-      while (!(std::isfinite(r_new) && r_new <= (1 - 1e-4 * alpha) * r)
-             && alpha > 1.0 / 64)
+      const double g0 = dot(dx, b_start);
+      double g = dot(dx, b);
+      for (int k = 0; k < 5 && std::abs(g) > 0.5 * std::abs(g0) && g * g0 < 0; ++k)
       {
-        alpha /= 2;
-        r_new = take(alpha);
-        if (std::isfinite(r_new) && r_new < best_r)
-          best_alpha = alpha, best_r = r_new;
-      }
-      if (!(std::isfinite(r_new) && r_new <= (1 - 1e-4 * alpha) * r))
-      {
-        if (best_alpha == 0.0 || best_r >= r)
-        {
-          take(0.0);
-          report.reason = "the line search found no decrease of the residual";
-          ++report.iterations;
+        // Secant between (0, g0) and (alpha, g), kept within [alpha/10, alpha].
+        const double next = std::clamp(alpha * g0 / (g0 - g), 0.1 * alpha, alpha);
+        const double r_try = take(next);
+        if (!std::isfinite(r_try))
           break;
-        }
-        r_new = take(best_alpha);
+        alpha = next, r_new = r_try, g = dot(dx, b);
       }
+      if (!std::isfinite(take(alpha)))
+        r_new = take(alpha);
     }
     ++report.iterations;
     r = r_new;

@@ -1,4 +1,4 @@
-// Newton's method with a backtracking line search, on a PETSc linear solver.
+// Newton's method with an energy line search, on a PETSc linear solver.
 #pragma once
 
 #include <functional>
@@ -18,7 +18,7 @@ struct NewtonSettings
   int max_iterations = 25;
   double rtol = 1e-9;       ///< relative to the first residual norm
   double atol = 1e-11;      ///< absolute residual norm
-  bool line_search = true;  ///< backtracking on the residual norm
+  bool line_search = true;  ///< energy line search (else full steps)
 };
 
 /// What happened in one Newton solve.

@@ -1,0 +1,63 @@
+// Usage: compare_summaries A.json B.json RTOL
+// Every number in A's "steps" (and its top-level results) must match B's
+// to RTOL relative (absolute below 1e-12); exit 1 otherwise.
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+namespace
+{
+int mismatches = 0;
+
+void compare(const nlohmann::json& a, const nlohmann::json& b, double rtol,
+             const std::string& path)
+{
+  if (a.is_number())
+  {
+    const double x = a.get<double>(), y = b.get<double>();
+    const double err = std::abs(x - y) / std::max(std::abs(x), 1e-12);
+    if (err > rtol)
+    {
+      std::cout << path << ": " << x << " vs " << y << " (rel " << err << ")\n";
+      ++mismatches;
+    }
+  }
+  else if (a.is_array() || a.is_object())
+  {
+    if (a.size() != b.size())
+    {
+      std::cout << path << ": sizes " << a.size() << " vs " << b.size() << "\n";
+      ++mismatches;
+      return;
+    }
+    for (auto it = a.begin(); it != a.end(); ++it)
+    {
+      const std::string key = a.is_array() ? std::to_string(it - a.begin()) : it.key();
+      if (key == "residual_N") // round-off, differs with the partition
+        continue;
+      compare(it.value(), a.is_array() ? b[std::stoul(key)] : b.at(key), rtol,
+              path + "/" + key);
+    }
+  }
+}
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  if (argc != 4)
+  {
+    std::cerr << "usage: compare_summaries A.json B.json RTOL\n";
+    return 2;
+  }
+  nlohmann::json a = nlohmann::json::parse(std::ifstream(argv[1]));
+  nlohmann::json b = nlohmann::json::parse(std::ifstream(argv[2]));
+  const double rtol = std::stod(argv[3]);
+  for (const char* key : {"steps", "apex_displacement_mm", "cavity_volume_mm3",
+                          "cavity_volume_reference_mm3", "dofs", "cells"})
+    if (a.contains(key))
+      compare(a[key], b.at(key), rtol, key);
+  std::cout << (mismatches ? "MISMATCH" : "agree") << ": " << argv[1] << " vs " << argv[2]
+            << " to " << rtol << "\n";
+  return mismatches ? 1 : 0;
+}

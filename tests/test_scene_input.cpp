@@ -1,0 +1,94 @@
+// Scene files: defaults, overrides, and the errors bad input gets.
+#include <fstream>
+#include <gtest/gtest.h>
+
+#include "scene/scene.h"
+
+using nct::scene::Error;
+using nct::scene::Scene;
+
+namespace
+{
+std::filesystem::path source(const std::string& p)
+{
+  return std::filesystem::path(NCT_SOURCE_DIR) / p;
+}
+
+/// The message of the Error that loading `text` (with overrides) throws.
+std::string error_of(const std::string& text, const std::vector<std::string>& sets = {})
+{
+  auto file = std::filesystem::temp_directory_path() / "nct_test_scene.toml";
+  std::ofstream(file) << text;
+  try
+  {
+    Scene::load(file, sets);
+  }
+  catch (const Error& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+} // namespace
+
+TEST(Scene, DefaultsFillWhatTheFileOmits)
+{
+  Scene s = Scene::load(source("scenes/default.toml"));
+  EXPECT_EQ(s.integer("mesh.layers"), 5);
+  EXPECT_DOUBLE_EQ(s.real("material.cornea.c10"), 0.05);
+  EXPECT_DOUBLE_EQ(s.real("material.sclera.c10"), 0.8);
+  EXPECT_EQ(s.string("material.sclera.model"), "neo_hookean");
+  EXPECT_FALSE(s.has("mesh.file")); // applies to file meshes only
+  // The resolved scene reloads to the same values.
+  auto file = std::filesystem::temp_directory_path() / "nct_resolved.toml";
+  std::ofstream(file) << s.to_toml();
+  Scene r = Scene::load(file);
+  EXPECT_DOUBLE_EQ(r.real("geometry.cut_y"), s.real("geometry.cut_y"));
+  EXPECT_EQ(r.tables("material"), s.tables("material"));
+}
+
+TEST(Scene, OverridesWinAndAreChecked)
+{
+  Scene s = Scene::load(source("scenes/default.toml"),
+                        {"mesh.layers=3", "material.cornea.k2=150", "solver.petsc.ksp_type=cg"});
+  EXPECT_EQ(s.integer("mesh.layers"), 3);
+  EXPECT_DOUBLE_EQ(s.real("material.cornea.k2"), 150);
+  EXPECT_EQ(s.options("solver.petsc").at(0), std::make_pair(std::string("ksp_type"),
+                                                             std::string("cg")));
+  EXPECT_THROW(Scene::load(source("scenes/default.toml"), {"mesh.layers"}), Error);
+}
+
+TEST(Scene, WildcardMaterialsGetDefaults)
+{
+  Scene s = Scene::load(source("tests/scenes/sphere_inflation.toml"));
+  EXPECT_EQ(s.tables("material"), std::vector<std::string>{"shell"});
+  EXPECT_DOUBLE_EQ(s.real("material.shell.poisson_ratio"), 0.3);
+  EXPECT_TRUE(s.points("material.shell.fibre_directions").empty());
+}
+
+TEST(Scene, ErrorsNameTheKeyAndWhatIsAccepted)
+{
+  EXPECT_NE(error_of("[fem]\ndegree = 2.5\n").find("key 'fem.degree'"), std::string::npos);
+  EXPECT_NE(error_of("[loading]\nsteps = 0\n").find("[1, 10000]"), std::string::npos);
+  EXPECT_NE(error_of("[material.cornea]\nk1 = -1.0\n").find("material.cornea.k1"),
+            std::string::npos);
+  EXPECT_NE(error_of("[output]\nprobes = [[1.0, 2.0]]\n").find("[x, y, z]"),
+            std::string::npos);
+  EXPECT_NE(error_of("[mesh]\nlayers = 5\n[mesh.extra]\nx = 1\n").find("mesh.extra.x"),
+            std::string::npos);
+  EXPECT_NE(error_of("[material.lens]\nc10 = 1.0\n").find("mesh.source=file"),
+            std::string::npos);
+  EXPECT_NE(error_of("", {"loading.iop=abc"}).find("--set loading.iop=abc"),
+            std::string::npos);
+  EXPECT_NE(error_of("[solver.petsc]\nksp_type = [1]\n").find("ksp_type"), std::string::npos);
+}
+
+TEST(Scene, DescribeDocumentsEveryKey)
+{
+  const std::string text = nct::scene::describe(true);
+  for (const auto& key : nct::scene::keys())
+  {
+    EXPECT_NE(text.find("`" + key.name + "`"), std::string::npos) << key.name;
+    EXPECT_FALSE(key.description.empty()) << key.name;
+  }
+}

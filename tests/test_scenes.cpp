@@ -1,0 +1,167 @@
+// Scene cases against closed forms and independent computations; run
+// serially and on 2 ranks (tests/CMakeLists.txt). Run folders go under
+// $NCT_TEST_OUT (default: test-runs).
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <gtest/gtest.h>
+
+#include "eye/geometry.h"
+#include "run/run.h"
+#include "scene/scene.h"
+
+namespace
+{
+
+constexpr double mmHg = 1.333224e-4; // MPa
+
+std::filesystem::path out_dir(const std::string& name)
+{
+  const char* root = std::getenv("NCT_TEST_OUT");
+  return std::filesystem::path(root ? root : "test-runs") / name;
+}
+
+nlohmann::json run_scene(const std::string& scene, const std::string& name,
+                         const std::vector<std::string>& sets = {})
+{
+  auto s = nct::scene::Scene::load(std::filesystem::path(NCT_SOURCE_DIR) / scene, sets);
+  return nct::run(MPI_COMM_WORLD, s, {out_dir(name), {}});
+}
+
+/// Root of f in [lo, hi] by bisection (f(lo) and f(hi) of opposite signs).
+double bisect(const std::function<double(double)>& f, double lo, double hi)
+{
+  for (int i = 0; i < 200; ++i)
+  {
+    double mid = 0.5 * (lo + hi);
+    (f(lo) * f(mid) <= 0 ? hi : lo) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+/// Cauchy stresses (axial, lateral) of the HGO law of forms/hgo.py under
+/// F = diag(l1, l2, l2), fibres along the axis:
+/// sigma = kappa ln J / J I + dev(tau_bar) / J,
+/// tau_bar = 2 C10 b_bar + 2 psi4' (F_bar a) (x) (F_bar a).
+std::array<double, 2> hgo_uniaxial_stress(double l1, double l2, double c10, double k1,
+                                          double k2, double kappa)
+{
+  const double J = l1 * l2 * l2;
+  const double b1 = std::pow(J, -2.0 / 3) * l1 * l1, b2 = std::pow(J, -2.0 / 3) * l2 * l2;
+  const double E4 = b1 - 1; // Ibar4 - 1
+  const double psi4 = E4 > 0 ? k1 * E4 * std::exp(k2 * E4 * E4) : 0.0;
+  const double t1 = 2 * c10 * b1 + 2 * psi4 * b1, t2 = 2 * c10 * b2;
+  const double mean = (t1 + 2 * t2) / 3;
+  const double vol = kappa * std::log(J) / J;
+  return {vol + (t1 - mean) / J, vol + (t2 - mean) / J};
+}
+
+/// Stretches (l1, l2) under a uniaxial Cauchy stress T: sigma_22 = 0 is
+/// solved for l2 inside a bisection on l1.
+std::array<double, 2> hgo_uniaxial_stretches(double T, double c10, double k1, double k2,
+                                             double kappa)
+{
+  auto lateral = [&](double l1)
+  {
+    return bisect([&](double l2)
+                  { return hgo_uniaxial_stress(l1, l2, c10, k1, k2, kappa)[1]; },
+                  0.5, 1.5);
+  };
+  double l1 = bisect(
+      [&](double l1)
+      { return hgo_uniaxial_stress(l1, lateral(l1), c10, k1, k2, kappa)[0] - T; },
+      0.7, 1.5);
+  return {l1, lateral(l1)};
+}
+
+/// Incompressible neo-Hookean thick sphere: pressure at inner stretch la,
+/// p = mu (1/(2 lb^4) + 2/lb - 1/(2 la^4) - 2/la), lb from volume conservation.
+double sphere_pressure(double la, double A, double B, double mu)
+{
+  const double a = la * A, b = std::cbrt(a * a * a + B * B * B - A * A * A), lb = b / B;
+  return mu * (0.5 / std::pow(lb, 4) + 2 / lb - 0.5 / std::pow(la, 4) - 2 / la);
+}
+
+} // namespace
+
+// Tension with the fibres along the load: the homogeneous FE solution is
+// exact, so it must match the closed form to the Newton tolerance.
+TEST(Hgo, UniaxialTensionAlongFibres)
+{
+  auto summary = run_scene("tests/scenes/hgo_uniaxial.toml", "hgo_tension");
+  const auto u = summary["steps"].back()["probe_0_displacement_mm"];
+  auto [l1, l2] = hgo_uniaxial_stretches(150 * mmHg, 0.05, 0.010, 100, 5.0);
+  std::printf("HGO tension: FE stretches %.10f %.10f, closed form %.10f %.10f\n",
+              1 + u[0].get<double>(), 1 + u[1].get<double>(), l1, l2);
+  EXPECT_NEAR(1 + u[0].get<double>(), l1, 1e-8);
+  EXPECT_NEAR(1 + u[1].get<double>(), l2, 1e-8);
+  EXPECT_NEAR(u[1].get<double>(), u[2].get<double>(), 1e-10);
+  // The fibres really load: the isotropic matrix alone would stretch more.
+  auto [m1, m2] = hgo_uniaxial_stretches(150 * mmHg, 0.05, 0.0, 100, 5.0);
+  (void)m2;
+  EXPECT_GT(m1 - l1, 1e-3);
+}
+
+// Compression: fibres carry no load, so the response is the matrix's alone.
+TEST(Hgo, FibresCarryNoCompression)
+{
+  auto summary = run_scene("tests/scenes/hgo_uniaxial.toml", "hgo_compression",
+                           {"loading.surface_pressure=150.0"});
+  const auto u = summary["steps"].back()["probe_0_displacement_mm"];
+  auto [l1, l2] = hgo_uniaxial_stretches(-150 * mmHg, 0.05, 0.0, 100, 5.0);
+  EXPECT_LT(l1, 1.0);
+  EXPECT_NEAR(1 + u[0].get<double>(), l1, 1e-8);
+  EXPECT_NEAR(1 + u[1].get<double>(), l2, 1e-8);
+}
+
+// Inflation of a nearly incompressible thick sphere (kappa/mu = 1000)
+// against the incompressible closed form, through the external-mesh path.
+TEST(NeoHookean, ThickSphereInflation)
+{
+  auto summary = run_scene("tests/scenes/sphere_inflation.toml", "sphere");
+  const double A = 1.0, B = 1.5, mu = 2 * 0.005, p = 30 * mmHg;
+  for (const auto& step : summary["steps"])
+  {
+    const double la = 1 + step["probe_0_displacement_mm"][0].get<double>();
+    const double lb = 1 + step["probe_1_displacement_mm"][1].get<double>() / B;
+    const double load = step["load_fraction"].get<double>() * p;
+    const double la_exact = bisect([&](double l) { return sphere_pressure(l, A, B, mu) - load; },
+                                   1.0, 2.0);
+    std::printf("sphere: p %.5f MPa  inner stretch FE %.6f exact %.6f  outer FE %.6f\n",
+                load, la, la_exact, lb);
+    EXPECT_NEAR(la, la_exact, 2e-3 * (la_exact - 1) + 1e-5);
+    // The wall keeps its volume (kappa/mu = 1000): b^3 - a^3 = B^3 - A^3.
+    EXPECT_NEAR(std::pow(lb * B, 3) - std::pow(la * A, 3), B * B * B - A * A * A, 5e-3);
+    // The polyhedral cavity's volume follows the sphere's (second-order gap).
+    const double V = step["cavity_volume_mm3"].get<double>();
+    EXPECT_NEAR(V / (4.0 / 3 * M_PI * std::pow(la * A, 3)), 1.0, 5e-3);
+  }
+}
+
+// The meshed cavity volume (the dolfinx volume functional on the
+// distributed mesh) against the analytic volume of the idealised eye.
+TEST(Eye, CavityVolumeMatchesGeometry)
+{
+  auto summary = run_scene("scenes/default.toml", "eye_volume",
+                           {"loading.iop=0.0", "loading.steps=1", "output.fields=false"});
+  const double exact = nct::eye::derive(nct::eye::Geometry{}).cavity_volume;
+  const double meshed = summary["cavity_volume_reference_mm3"].get<double>();
+  std::printf("eye cavity: meshed %.4f mm3, analytic %.4f mm3 (%.3f%%)\n", meshed, exact,
+              100 * (meshed / exact - 1));
+  EXPECT_NEAR(meshed / exact, 1.0, 5e-3);
+  EXPECT_EQ(summary["symmetry_factor"].get<int>(), 4);
+}
+
+// The default scene end to end; its summary is compared across rank counts.
+TEST(Eye, DefaultSceneInflates)
+{
+  auto summary = run_scene("scenes/default.toml", "default");
+  EXPECT_EQ(summary["status"], "converged");
+  const double apex = summary["apex_displacement_mm"].get<double>();
+  // A pressurised shell bulges forward, by a fraction of a millimetre.
+  EXPECT_GT(apex, 0.05);
+  EXPECT_LT(apex, 0.5);
+  EXPECT_GT(summary["cavity_volume_mm3"].get<double>(),
+            summary["cavity_volume_reference_mm3"].get<double>());
+}
