@@ -103,7 +103,7 @@ Groups open(MPI_Comm comm, const std::filesystem::path& file)
   return groups_of_current_model(comm);
 }
 
-Model extract(MPI_Comm comm)
+Model extract(MPI_Comm comm, double size_max)
 {
   Model m;
   m.groups = groups_of_current_model(comm);
@@ -117,6 +117,8 @@ Model extract(MPI_Comm comm)
     {
       try
       {
+        if (size_max > 0)
+          gmsh::option::setNumber("Mesh.CharacteristicLengthMax", size_max);
         gmsh::model::mesh::generate(3);
       }
       catch (const std::string& e) // gmsh 4.8 throws strings

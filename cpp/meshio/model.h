@@ -45,8 +45,9 @@ Groups groups_of_current_model(MPI_Comm comm);
 Groups open(MPI_Comm comm, const std::filesystem::path& file);
 
 /// Linear tetrahedra and tagged triangles of the current gmsh model (rank
-/// 0), meshing it in 3D first if it has no volume mesh yet.
-Model extract(MPI_Comm comm);
+/// 0), meshing it in 3D first if it has no volume mesh yet (with elements
+/// no larger than `size_max` if it is positive).
+Model extract(MPI_Comm comm, double size_max = 0);
 
 /// A distributed mesh with its physical-group tags.
 struct Tagged

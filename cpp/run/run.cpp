@@ -187,7 +187,8 @@ MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s)
   b.cavity_wall = tags("boundary.cavity_wall");
   b.surface_load = tags("boundary.surface_load");
 
-  MeshSetup m{meshio::distribute(comm, meshio::extract(comm)), {}, b, {}, {}, {}, {}};
+  MeshSetup m{meshio::distribute(comm, meshio::extract(comm, s.real("mesh.size_max"))),
+              {}, b, {}, {}, {}, {}};
   for (auto& [name, tag] : groups.volumes)
     m.parts[tag] = name;
   std::map<std::string, std::array<std::array<double, 3>, 2>> constant;
@@ -276,7 +277,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
 
   const solver::NewtonSettings settings{
       s.integer("solver.max_iterations"), s.real("solver.rtol"), s.real("solver.atol"),
-      s.string("solver.line_search") == "energy"};
+      s.string("solver.line_search") == "energy", s.string("solver.jacobian") == "reuse"};
   const double iop = s.real("loading.iop"), surface = s.real("loading.surface_pressure");
   const int steps = s.integer("loading.steps"), max_cuts = s.integer("solver.max_step_cuts");
 
@@ -320,6 +321,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
     summary["status"] = status;
     summary["newton_iterations"] = newton_total;
     summary["linear_solves"] = newton.timings.linear_solves;
+    summary["jacobians"] = newton.timings.jacobians;
     summary["step_cuts"] = cuts;
     summary["wall_s"] = MPI_Wtime() - t_start;
     summary["timings_s"] = {{"mesh", t_mesh},

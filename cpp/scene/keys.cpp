@@ -62,7 +62,9 @@ std::vector<Key> declare()
   k.push_back({"mesh.file", K::string, "\"\"", "", -inf, inf, {},
                "external mesh (.msh, or a .geo that gmsh meshes), relative to the "
                "scene file; its physical groups map to materials and boundaries"});
-  only_when(k, k.size() - 1, "mesh.source=file");
+  k.push_back({"mesh.size_max", K::real, "0.0", "mm", 0, 1e3, {},
+               "file: largest element when nct meshes a .geo (0: as the .geo says)"});
+  only_when(k, k.size() - 2, "mesh.source=file");
   std::size_t eye_keys = k.size();
   k.push_back({"mesh.layers", K::integer, "5", "", 1, 12, {},
                "eye: elements through the wall thickness"});
@@ -139,6 +141,11 @@ std::vector<Key> declare()
                "Newton step length: energy = secant search for the zero of the "
                "residual projected on the step (non-finite residuals halve it); "
                "none = full steps"});
+  k.push_back({"solver.jacobian", K::choice, "\"reuse\"", "", -inf, inf,
+               {"reuse", "every_iteration"},
+               "reuse = keep the factorised Jacobian while each Newton iteration cuts the "
+               "residual at least 4x (fewer factorisations); every_iteration = full Newton "
+               "(quadratic convergence)"});
   k.push_back({"solver.max_step_cuts", K::integer, "8", "", 0, 30, {},
                "times a failed load step may be halved before the run stops"});
   k.push_back({"solver.petsc", K::options, "{}", "", -inf, inf, {},
@@ -184,6 +191,9 @@ void check_consistency(const Scene& s)
     auto ext = mesh.extension().string();
     if (ext != ".msh" && ext != ".geo")
       fail("key 'mesh.file': '" + ext + "' files are not read; accepted: .msh, .geo");
+    if (ext == ".msh" && s.real("mesh.size_max") > 0)
+      fail("key 'mesh.size_max' applies when nct meshes a .geo; '"
+           + s.string("mesh.file") + "' is already meshed");
     if (s.tables("material").empty())
       fail("key 'material': a file mesh needs a [material.<group>] table per "
            "volume group");

@@ -99,11 +99,18 @@ NewtonReport Newton::solve(dolfinx::la::Vector<double>& x,
       break;
     }
 
+    const std::size_t n = report.residuals.size();
+    const bool slow = n >= 2 && report.residuals[n - 1] > 0.25 * report.residuals[n - 2];
     double t = MPI_Wtime();
-    jacobian(_A);
-    timings.assemble += MPI_Wtime() - t;
-    t = MPI_Wtime();
-    KSPSetOperators(_ksp, _A, _A);
+    if (!settings.reuse_jacobian || !_factorised || slow)
+    {
+      jacobian(_A);
+      ++timings.jacobians;
+      timings.assemble += MPI_Wtime() - t;
+      t = MPI_Wtime();
+      KSPSetOperators(_ksp, _A, _A);
+      _factorised = true;
+    }
     KSPSolve(_ksp, b_petsc, dx_petsc);
     timings.solve += MPI_Wtime() - t;
     ++timings.linear_solves;
@@ -156,6 +163,8 @@ NewtonReport Newton::solve(dolfinx::la::Vector<double>& x,
   }
   VecDestroy(&b_petsc);
   VecDestroy(&dx_petsc);
+  if (!report.converged)
+    _factorised = false; // the caller restarts elsewhere: start afresh
   return report;
 }
 

@@ -19,6 +19,9 @@ struct NewtonSettings
   double rtol = 1e-9;       ///< relative to the first residual norm
   double atol = 1e-11;      ///< absolute residual norm
   bool line_search = true;  ///< energy line search (else full steps)
+  /// Keep the factorised Jacobian (across iterations and solves) while
+  /// each iteration cuts the residual at least 4x; refactorise otherwise.
+  bool reuse_jacobian = false;
 };
 
 /// What happened in one Newton solve.
@@ -36,6 +39,7 @@ struct Timings
   double assemble = 0;
   double solve = 0;
   int linear_solves = 0;
+  int jacobians = 0; ///< Jacobian assemblies (factorisations with a direct solver)
 };
 
 /// PETSc options in force: defaults (MUMPS LU), overridden by `options`
@@ -65,6 +69,7 @@ public:
 private:
   KSP _ksp = nullptr;
   Mat _A;
+  bool _factorised = false; ///< does the KSP hold a usable Jacobian?
 };
 
 } // namespace nct::solver
