@@ -1,8 +1,6 @@
 // nct: the command-line front end (check, run, describe).
 #include <CLI/CLI.hpp>
-#include <dolfinx/common/log.h>
 #include <iostream>
-#include <petscsys.h>
 #include <sstream>
 
 #include "run/run.h"
@@ -60,12 +58,7 @@ int main(int argc, char* argv[])
     return 0;
   }
 
-  // PETSc (and MPI) without the command line: nct parses its own.
-  int one = 1;
-  char* argv0[] = {argv[0], nullptr};
-  char** pargv = argv0;
-  PetscInitialize(&one, &pargv, nullptr, nullptr);
-  dolfinx::init_logging(one, pargv);
+  nct::Runtime runtime(argv[0]);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
 
@@ -106,6 +99,5 @@ int main(int argc, char* argv[])
     std::cerr << "error (rank " << rank << "): " << e.what() << std::endl;
     code = 1;
   }
-  PetscFinalize();
   return code;
 }

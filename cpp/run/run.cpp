@@ -5,6 +5,7 @@
 #include <gmsh.h>
 #include <sstream>
 
+#include <dolfinx/common/log.h>
 #include <dolfinx/fem/utils.h>
 #include <dolfinx/la/petsc.h>
 
@@ -216,6 +217,17 @@ MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s)
 nlohmann::json vec(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; }
 
 } // namespace
+
+Runtime::Runtime(const char* program)
+{
+  int argc = 1;
+  char* argv[] = {const_cast<char*>(program), nullptr};
+  char** pargv = argv;
+  PetscInitialize(&argc, &pargv, nullptr, nullptr);
+  dolfinx::init_logging(argc, pargv);
+}
+
+Runtime::~Runtime() { PetscFinalize(); }
 
 void check(MPI_Comm comm, const scene::Scene& s)
 {

@@ -23,6 +23,18 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+/// PETSc, MPI and dolfinx's logging for the lifetime of the object. PETSc
+/// does not see the command line: its options come from the scene and
+/// from nct's --petsc.
+class Runtime
+{
+public:
+  explicit Runtime(const char* program);
+  ~Runtime();
+  Runtime(const Runtime&) = delete;
+  Runtime& operator=(const Runtime&) = delete;
+};
+
 /// Command-line settings of a run.
 struct RunOptions
 {
