@@ -3,7 +3,7 @@
 Find u such that, for every admissible v,
 
     sum_laws integral_{Omega_law} P_law(F) : grad v dX            (internal work)
-  + integral_{cavity wall} p_cavity J F^-T N . v dA              (cavity pressure)
+  + sum_c integral_{wall of cavity c} p_c J F^-T N . v dA        (cavity pressures)
   + integral_{loaded surface} p_surface J F^-T N . v dA = 0      (surface pressure)
 
 with P = dPsi/dF. Cells carry the tag of their material law, facets the
@@ -24,9 +24,9 @@ import kinematics
 import linear_elastic
 import neo_hookean
 
-# Integration tags, shared with cpp/solid/tags.h.
-HGO, NEO_HOOKEAN, LINEAR_ELASTIC = 1, 2, 3      # cell tags: material law
-CAVITY_WALL, SURFACE_LOAD = 1, 2                 # facet tags: load
+# Integration tags, shared with cpp/solid/problem.cpp.
+HGO, NEO_HOOKEAN, LINEAR_ELASTIC = 1, 2, 3        # cell tags: material law
+CAVITY_1_WALL, SURFACE_LOAD, CAVITY_2_WALL = 1, 2, 3  # facet tags: load
 
 element = VectorElement("Lagrange", tetrahedron, degree)  # noqa: F821 (set by the wrapper)
 cell_scalar = FiniteElement("DG", tetrahedron, 0)
@@ -46,8 +46,9 @@ poisson_ratio = Coefficient(cell_scalar)   # [-]
 fibre_1 = Coefficient(cell_vector)  # first fibre family (unit or zero)
 fibre_2 = Coefficient(cell_vector)  # second fibre family (unit or zero)
 
-# Loads [MPa]
-p_cavity = Constant(tetrahedron)
+# Loads [MPa]: up to two cavities (the merged one, or aqueous and vitreous)
+p_cavity_1 = Constant(tetrahedron)
+p_cavity_2 = Constant(tetrahedron)
 p_surface = Constant(tetrahedron)
 
 # Fixed quadrature degrees: UFL's estimate explodes on exp() (toolchain.md).
@@ -64,13 +65,15 @@ psi_linear_elastic = linear_elastic.energy(F, youngs_modulus, poisson_ratio)
 R = (inner(diff(psi_hgo, F), grad(v)) * dx(HGO)
      + inner(diff(psi_neo_hookean, F), grad(v)) * dx(NEO_HOOKEAN)
      + inner(diff(psi_linear_elastic, F), grad(v)) * dx(LINEAR_ELASTIC)
-     + cavity.follower_pressure(p_cavity, F, N, v) * ds(CAVITY_WALL)
+     + cavity.follower_pressure(p_cavity_1, F, N, v) * ds(CAVITY_1_WALL)
+     + cavity.follower_pressure(p_cavity_2, F, N, v) * ds(CAVITY_2_WALL)
      + cavity.follower_pressure(p_surface, F, N, v) * ds(SURFACE_LOAD))
 J = derivative(R, u, du)
 
-# Enclosed cavity volume (quarter model, no symmetry factor) about x0.
+# Enclosed cavity volumes (quarter model, no symmetry factor) about x0.
 x0 = Constant(tetrahedron, shape=(3,))
-volume = cavity.volume(u, F, N, x0) * ds(CAVITY_WALL)
+volume_1 = cavity.volume(u, F, N, x0) * ds(CAVITY_1_WALL)
+volume_2 = cavity.volume(u, F, N, x0) * ds(CAVITY_2_WALL)
 
 # Von Mises equivalent of the Cauchy stress, per cell: the law indicators
 # pick the stress of the cell's own law (1 on its cells, 0 elsewhere).
@@ -83,5 +86,5 @@ sigma = kinematics.cauchy_stress(P, F)
 s = sigma - tr(sigma) / 3.0 * Identity(3)
 von_mises = sqrt(1.5 * inner(s, s))
 
-forms = [R, J, volume]
+forms = [R, J, volume_1, volume_2]
 expressions = [(von_mises, [[0.25, 0.25, 0.25]])]

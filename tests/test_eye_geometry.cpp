@@ -431,4 +431,267 @@ TEST_F(EyeMeshDefault, RejectsBadRefinement)
   }
 }
 
+// ---- Internal structures (lens, zonule band, vitreous membrane) ----
+
+Geometry internal_geometry()
+{
+  Geometry g;
+  g.internal_structures = true;
+  return g;
+}
+
+TEST(EyeDerive, InternalStructureVolumes)
+{
+  const Geometry g = internal_geometry();
+  const Derived d = nct::eye::derive(g);
+  const Derived off = nct::eye::derive(Geometry{});
+  EXPECT_EQ(off.aqueous_volume, 0);
+  EXPECT_EQ(off.vitreous_volume, 0);
+  EXPECT_EQ(d.cavity_volume, off.cavity_volume);
+
+  // The meridian shapes rebuilt from the keys, integrated in shells
+  // 2 pi r (y_top(r) - y_bottom(r)) dr up to the ring radius, which lies
+  // above the equator of the inner sphere for the defaults.
+  const double Ri = inner_radius(g), Rp = g.cornea_posterior_radius;
+  const double lr = g.lens_diameter / 2;
+  const double front_pole = d.apex_y - g.cornea_central_thickness - g.anterior_chamber_depth;
+  const double back_pole = front_pole - g.lens_thickness;
+  const double fc = front_pole - g.lens_anterior_radius, bc = back_pole + g.lens_posterior_radius;
+  const auto front = [&](double r) { return fc + std::sqrt(std::pow(g.lens_anterior_radius, 2) - r * r); };
+  const auto back = [&](double r) { return bc - std::sqrt(std::pow(g.lens_posterior_radius, 2) - r * r); };
+  const double theta = std::atan2(d.junction_posterior_r, d.junction_posterior_y) + g.ciliary_offset / Ri;
+  const double ring_r = Ri * std::sin(theta), ring_y = Ri * std::cos(theta);
+  ASSERT_GT(ring_y, 0);
+  ASSERT_GT(ring_r, d.junction_posterior_r);
+  const auto band = [&](double rim_y, double r) {
+    return rim_y + (r - lr) / (ring_r - lr) * (ring_y - rim_y);
+  };
+  const auto dia_front = [&](double r) { return r <= lr ? front(r) : band(front(lr), r); };
+  const auto dia_back = [&](double r) { return r <= lr ? back(r) : band(back(lr), r); };
+  const auto wall = [&](double r) {
+    return r <= d.junction_posterior_r ? d.posterior_centre_y + std::sqrt(Rp * Rp - r * r)
+                                       : std::sqrt(Ri * Ri - r * r);
+  };
+  // Pieces split at the kinks: lens equator, posterior junction.
+  const auto shells = [&](const std::function<double(double)>& height) {
+    const auto f = [&](double r) { return 2 * pi * r * height(r); };
+    return simpson(f, 0, lr) + simpson(f, lr, d.junction_posterior_r)
+           + simpson(f, d.junction_posterior_r, ring_r);
+  };
+  const double aqueous = shells([&](double r) { return wall(r) - dia_front(r); });
+  const double diaphragm = shells([&](double r) { return dia_front(r) - dia_back(r); });
+  EXPECT_NEAR(d.aqueous_volume / aqueous, 1, 1e-9);
+  EXPECT_NEAR((d.cavity_volume - d.aqueous_volume - d.vitreous_volume) / diaphragm, 1, 1e-9);
+  EXPECT_GT(d.vitreous_volume, d.aqueous_volume);
+  std::cout << "[ derive   ] internal structures: aqueous " << d.aqueous_volume << ", vitreous "
+            << d.vitreous_volume << ", diaphragm " << diaphragm << ", cavity " << d.cavity_volume
+            << " mm^3; ring (r, y) = (" << ring_r << ", " << ring_y << ")\n";
+}
+
+TEST(EyeDerive, ImpossibleLensNamesTheKey)
+{
+  Geometry g = internal_geometry();
+  g.lens_thickness = 0.3; // the spheres cross before the equator
+  expect_rejected(g, "lens_thickness");
+  g.internal_structures = false; // not validated when off
+  EXPECT_NO_THROW(nct::eye::derive(g));
+  g = internal_geometry();
+  g.lens_thickness = 14.0; // through the cut plane
+  expect_rejected(g, "lens_thickness");
+  g = internal_geometry();
+  g.lens_anterior_radius = 4.0; // smaller than the lens radius
+  expect_rejected(g, "lens_anterior_radius");
+  g = internal_geometry();
+  g.lens_posterior_radius = 4.7;
+  expect_rejected(g, "lens_posterior_radius");
+  g = internal_geometry();
+  g.anterior_chamber_depth = 0;
+  expect_rejected(g, "anterior_chamber_depth");
+  g = internal_geometry();
+  g.anterior_chamber_depth = 0.5; // the lens periphery pierces the posterior cornea
+  g.lens_anterior_radius = 20.0;
+  expect_rejected(g, "anterior_chamber_depth");
+  g = internal_geometry();
+  g.lens_diameter = -1;
+  expect_rejected(g, "lens_diameter");
+  g = internal_geometry();
+  g.lens_nucleus_fraction = 1.2;
+  expect_rejected(g, "lens_nucleus_fraction");
+  g = internal_geometry();
+  g.ciliary_offset = 30.0; // below the cut plane
+  expect_rejected(g, "ciliary_offset");
+  g = internal_geometry();
+  g.ciliary_offset = 0;
+  expect_rejected(g, "ciliary_offset");
+  g = internal_geometry();
+  g.lens_diameter = 10.6; // equator outside the ring
+  g.lens_posterior_radius = 10.0;
+  g.ciliary_offset = 0.01;
+  expect_rejected(g, "ciliary_offset");
+}
+
+/// Numbers measured on a mesh with internal structures.
+struct InternalReport
+{
+  std::size_t nodes = 0, tets = 0, ring_nodes = 0;
+  double aqueous_error = 0, vitreous_error = 0, min_quality = 0;
+};
+
+/// Builds the eye with internal structures, checks it and reports; removes the model.
+InternalReport check_internal_mesh(const Geometry& g, const Refinement& r)
+{
+  nct::eye::build(g, r);
+  const MeshData m = read_mesh();
+  const Derived d = nct::eye::derive(g);
+  InternalReport report;
+  report.nodes = m.x.size();
+
+  const std::map<std::pair<int, int>, std::string> expected{
+      {{3, 1}, "cornea"},          {{3, 2}, "limbus"},          {{3, 3}, "sclera"},
+      {{3, 4}, "lens_cortex"},     {{3, 5}, "lens_nucleus"},    {{3, 6}, "zonule"},
+      {{3, 7}, "vitreous_membrane"},
+      {{2, 1}, "anterior_cornea"}, {{2, 2}, "anterior_sclera"}, {{2, 4}, "symmetry_x"},
+      {{2, 5}, "symmetry_z"},      {{2, 6}, "fixed"},           {{2, 7}, "aqueous_wall"},
+      {{2, 8}, "vitreous_wall"}};
+  EXPECT_EQ(m.names, expected);
+
+  // Tets: distinct nodes, positive volumes; faces counted.
+  using Face = std::array<std::size_t, 3>;
+  std::map<Face, int> tet_faces;
+  const auto sorted = [](Face f) {
+    std::sort(f.begin(), f.end());
+    return f;
+  };
+  std::map<std::size_t, int> node_body; // bit 1 shell, bit 2 diaphragm
+  double volume = 0, min_volume = std::numeric_limits<double>::infinity();
+  std::size_t repeated = 0;
+  for (const auto& [name, nodes] : m.tets) {
+    EXPECT_FALSE(nodes.empty()) << name;
+    const bool shell = name == "cornea" || name == "limbus" || name == "sclera";
+    for (std::size_t i = 0; i < nodes.size(); i += 4) {
+      std::array<std::size_t, 4> t{nodes[i], nodes[i + 1], nodes[i + 2], nodes[i + 3]};
+      std::array<std::size_t, 4> s = t;
+      std::sort(s.begin(), s.end());
+      repeated += std::adjacent_find(s.begin(), s.end()) != s.end();
+      const Vec3& a = m.x.at(t[0]);
+      const double v = dot(sub(m.x.at(t[1]), a), cross(sub(m.x.at(t[2]), a), sub(m.x.at(t[3]), a))) / 6;
+      min_volume = std::min(min_volume, v);
+      volume += v;
+      ++report.tets;
+      for (int j = 0; j < 4; ++j) {
+        ++tet_faces[sorted({t[(j + 1) % 4], t[(j + 2) % 4], t[(j + 3) % 4]})];
+        node_body[t[j]] |= shell ? 1 : 2;
+      }
+    }
+  }
+  EXPECT_EQ(repeated, 0u);
+  EXPECT_GT(min_volume, 0);
+  report.ring_nodes = std::count_if(node_body.begin(), node_body.end(),
+                                    [](const auto& n) { return n.second == 3; });
+  EXPECT_GT(report.ring_nodes, 2u);
+
+  // Boundary triangles: each in one group, each a face of exactly one tet;
+  // interior faces shared by exactly two tets.
+  std::map<Face, int> boundary;
+  const Vec3 x0{0, g.cut_y, 0};
+  double enclosed = 0, aqueous = 0, vitreous = 0;
+  for (const auto& [name, nodes] : m.triangles) {
+    EXPECT_FALSE(nodes.empty()) << name;
+    for (std::size_t i = 0; i < nodes.size(); i += 3) {
+      ++boundary[sorted({nodes[i], nodes[i + 1], nodes[i + 2]})];
+      const Vec3 &a = m.x.at(nodes[i]), &b = m.x.at(nodes[i + 1]), &c = m.x.at(nodes[i + 2]);
+      const Vec3 an = cross(sub(b, a), sub(c, a)); // 2 A n
+      const Vec3 centroid{(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3,
+                          (a[2] + b[2] + c[2]) / 3};
+      enclosed += dot(centroid, an) / 6;
+      if (name == "aqueous_wall")
+        aqueous -= 4 * dot(sub(centroid, x0), an) / 6;
+      if (name == "vitreous_wall")
+        vitreous -= 4 * dot(sub(centroid, x0), an) / 6;
+    }
+  }
+  std::size_t bad_interior = 0, bad_boundary = 0, orphan_boundary = 0;
+  for (const auto& [face, count] : tet_faces) {
+    const auto it = boundary.find(face);
+    const int groups = it == boundary.end() ? 0 : it->second;
+    if (count == 2)
+      bad_interior += groups != 0;
+    else
+      bad_boundary += !(count == 1 && groups == 1);
+  }
+  for (const auto& [face, groups] : boundary)
+    orphan_boundary += tet_faces.count(face) == 0 || tet_faces.at(face) != 1;
+  EXPECT_EQ(bad_interior, 0u);
+  EXPECT_EQ(bad_boundary, 0u);
+  EXPECT_EQ(orphan_boundary, 0u);
+  EXPECT_NEAR(enclosed / volume, 1, 1e-12);
+
+  report.aqueous_error = aqueous / d.aqueous_volume - 1;
+  report.vitreous_error = vitreous / d.vitreous_volume - 1;
+  EXPECT_LT(std::abs(report.aqueous_error), 0.01);
+  EXPECT_LT(std::abs(report.vitreous_error), 0.01);
+
+  report.min_quality = min_quality();
+  EXPECT_GT(report.min_quality, 0);
+  gmsh::model::remove();
+  return report;
+}
+
+class EyeInternalMesh : public GmshSuite, public ::testing::WithParamInterface<int>
+{
+};
+
+TEST_P(EyeInternalMesh, ConformsAndConverges)
+{
+  const Geometry g = internal_geometry();
+  Refinement r;
+  r.layers = GetParam();
+  const InternalReport coarse = check_internal_mesh(g, r);
+  r.size_cornea /= 2;
+  r.size_limbus /= 2;
+  r.size_sclera /= 2;
+  r.size_lens /= 2;
+  const InternalReport fine = check_internal_mesh(g, r);
+  for (const auto& [label, m] : {std::pair{"sizes", coarse}, std::pair{"sizes / 2", fine}})
+    std::cout << "[ internal ] layers " << GetParam() << ", " << label << ": " << m.nodes
+              << " nodes, " << m.tets << " tets, " << m.ring_nodes << " shared ring nodes, aqueous error "
+              << 100 * m.aqueous_error << " %, vitreous error " << 100 * m.vitreous_error
+              << " %, min ICN " << m.min_quality << "\n";
+  EXPECT_LT(std::abs(fine.aqueous_error), std::abs(coarse.aqueous_error));
+  EXPECT_LT(std::abs(fine.vitreous_error), std::abs(coarse.vitreous_error));
+}
+
+INSTANTIATE_TEST_SUITE_P(Layers, EyeInternalMesh, ::testing::Values(3, 5));
+
+TEST_F(EyeMeshDefault, InternalStructuresReport)
+{
+  const auto start = std::chrono::steady_clock::now();
+  nct::eye::build(internal_geometry(), Refinement{});
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::vector<std::size_t> tets, nodes, tags;
+  std::vector<double> xyz, uvw;
+  gmsh::model::mesh::getElementsByType(4, tets, nodes);
+  gmsh::model::mesh::getNodes(tags, xyz, uvw, -1, -1, false, false);
+  const double q = min_quality();
+  std::cout << "[ default  ] internal structures: " << tags.size() << " nodes, " << tets.size()
+            << " tets, min ICN " << q << ", build() " << 1e3 * seconds << " ms\n";
+  EXPECT_GT(q, 0);
+  gmsh::model::remove();
+}
+
+TEST_F(EyeMeshDefault, RejectsBadLensSize)
+{
+  Refinement r;
+  r.size_lens = 0;
+  EXPECT_NO_THROW(nct::eye::build(Geometry{}, r)); // unused without internal structures
+  gmsh::model::remove();
+  try {
+    nct::eye::build(internal_geometry(), r);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("mesh.size_lens"), std::string::npos) << e.what();
+  }
+}
+
 } // namespace

@@ -189,6 +189,32 @@ TEST(Eye, CavityVolumeMatchesGeometry)
   EXPECT_EQ(summary["symmetry_factor"].get<int>(), 4);
 }
 
+// With the internal structures, two cavities: each meshed volume against
+// the analytic one, and together with the diaphragm they fill the merged
+// cavity of the eye without internal structures.
+TEST(Eye, InternalStructuresMakeTwoCavities)
+{
+  // A moderate IOP keeps this case short; scenes/eye-internal.toml goes to 15.
+  auto summary = run_scene("scenes/eye-internal.toml", "eye_internal",
+                           {"loading.iop=6.0", "loading.steps=2", "output.fields=false"});
+  EXPECT_EQ(summary["status"], "converged");
+  nct::eye::Geometry g;
+  g.internal_structures = true;
+  const auto d = nct::eye::derive(g);
+  const double aqueous = summary["aqueous_volume_reference_mm3"].get<double>();
+  const double vitreous = summary["vitreous_volume_reference_mm3"].get<double>();
+  std::printf("aqueous %.4f (analytic %.4f), vitreous %.4f (analytic %.4f) mm3\n", aqueous,
+              d.aqueous_volume, vitreous, d.vitreous_volume);
+  EXPECT_NEAR(aqueous / d.aqueous_volume, 1.0, 0.01);
+  EXPECT_NEAR(vitreous / d.vitreous_volume, 1.0, 0.01);
+  EXPECT_LT(aqueous + vitreous, d.cavity_volume);
+  // The pressurised eye grows; the apex moves forward as without the
+  // internal structures (they hardly load the cornea).
+  EXPECT_GT(summary["apex_displacement_mm"].get<double>(), 0.05);
+  EXPECT_GT(summary["aqueous_volume_mm3"].get<double>(), aqueous);
+  EXPECT_GT(summary["vitreous_volume_mm3"].get<double>(), vitreous);
+}
+
 // The default scene end to end; its summary is compared across rank counts.
 TEST(Eye, DefaultSceneInflates)
 {

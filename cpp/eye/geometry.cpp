@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -87,6 +88,48 @@ private:
   double junction_angle_, junction_s_, length_;
 };
 
+/// The internal structures in the meridian plane, parametrised by the
+/// diaphragm's chart radius rho: rho = r in the lens, then linear in the
+/// distance along the zonule band to the ring point at rho_max.
+struct Diaphragm
+{
+  bool on = false;
+  double lens_r = 0;                  ///< lens radius (equator)
+  double front_c = 0, front_R = 0;    ///< anterior lens sphere: centre y, radius
+  double back_c = 0, back_R = 0;      ///< posterior lens sphere: centre y, radius
+  double front_pole = 0, back_pole = 0; ///< y of the lens poles
+  Meridian rim_front{}, rim_back{};   ///< lens equator rim on the two spheres
+  Meridian ring{};                    ///< zonule ring point R on the inner sclera
+  double ring_s = 0;                  ///< shell chart radius (anterior arc length) of the ring
+  double rho_nucleus = 0;             ///< chart radius bounding the nucleus
+  double rho_max = 0;                 ///< chart radius of the ring
+
+  /// The anterior (front) profile point at chart radius rho.
+  Meridian anterior(double rho) const
+  {
+    if (rho <= lens_r)
+      return {rho, front_c + std::sqrt(front_R * front_R - rho * rho)};
+    return toward_ring(rim_front, rho);
+  }
+
+  /// The posterior (back) profile point at chart radius rho.
+  Meridian posterior(double rho) const
+  {
+    if (rho <= lens_r)
+      return {rho, back_c - std::sqrt(back_R * back_R - rho * rho)};
+    return toward_ring(rim_back, rho);
+  }
+
+private:
+  Meridian toward_ring(Meridian rim, double rho) const
+  {
+    if (rho >= rho_max)
+      return ring;
+    const double u = (rho - lens_r) / (rho_max - lens_r);
+    return {rim.r + u * (ring.r - rim.r), rim.y + u * (ring.y - rim.y)};
+  }
+};
+
 /// The validated shape: derived numbers, both profiles and the part bounds.
 struct Layout
 {
@@ -95,6 +138,7 @@ struct Layout
   Profile posterior;
   double limbus_begin; ///< s where the cornea ends
   double limbus_end;   ///< s where the sclera begins
+  Diaphragm diaphragm{}; ///< internal structures (diaphragm.on) or nothing
 
   /// The posterior arc length matched to the anterior arc length s.
   double matched(double s) const
@@ -122,6 +166,115 @@ double zone_volume(double R, double c, double y0, double y1)
 {
   const auto F = [&](double y) { return R * R * y - std::pow(y - c, 3) / 3.0; };
   return std::numbers::pi * (F(y1) - F(y0));
+}
+
+/// Integral of pi r^2 dy along the straight meridian segment a -> b (signed).
+double segment_volume(Meridian a, Meridian b)
+{
+  return std::numbers::pi * (b.y - a.y) * (a.r * a.r + a.r * b.r + b.r * b.r) / 3;
+}
+
+/// Validates the internal structures of g and derives them into e
+/// (diaphragm, aqueous and vitreous volumes).
+void add_diaphragm(const Geometry& g, Layout& e)
+{
+  Derived& d = e.derived;
+  const double Ri = g.sclera_outer_radius - g.sclera_thickness, Rp = g.cornea_posterior_radius;
+  const double cp = d.posterior_centre_y, yp = d.junction_posterior_y;
+  const double cavity_top = d.apex_y - g.cornea_central_thickness;
+  const double lr = g.lens_diameter / 2;
+  if (!(g.anterior_chamber_depth > 0))
+    reject("geometry.anterior_chamber_depth", g.anterior_chamber_depth, "must be > 0");
+  if (!(g.lens_thickness > 0))
+    reject("geometry.lens_thickness", g.lens_thickness, "must be > 0");
+  if (!(lr > 0))
+    reject("geometry.lens_diameter", g.lens_diameter, "must be > 0");
+  if (!(g.lens_anterior_radius > lr))
+    reject("geometry.lens_anterior_radius", g.lens_anterior_radius,
+           "must exceed lens_diameter / 2 (the sphere must reach the lens equator)");
+  if (!(g.lens_posterior_radius > lr))
+    reject("geometry.lens_posterior_radius", g.lens_posterior_radius,
+           "must exceed lens_diameter / 2 (the sphere must reach the lens equator)");
+  if (!(g.lens_nucleus_fraction > 0 && g.lens_nucleus_fraction < 1))
+    reject("geometry.lens_nucleus_fraction", g.lens_nucleus_fraction, "must be in (0, 1)");
+  if (!(g.ciliary_offset > 0))
+    reject("geometry.ciliary_offset", g.ciliary_offset, "must be > 0");
+
+  Diaphragm m;
+  m.on = true;
+  m.lens_r = lr;
+  m.front_pole = cavity_top - g.anterior_chamber_depth;
+  m.back_pole = m.front_pole - g.lens_thickness;
+  m.front_R = g.lens_anterior_radius;
+  m.front_c = m.front_pole - m.front_R;
+  m.back_R = g.lens_posterior_radius;
+  m.back_c = m.back_pole + m.back_R;
+  m.rim_front = {lr, m.front_c + std::sqrt(m.front_R * m.front_R - lr * lr)};
+  m.rim_back = {lr, m.back_c - std::sqrt(m.back_R * m.back_R - lr * lr)};
+  if (!(m.rim_front.y > m.rim_back.y)) {
+    std::ostringstream accepted;
+    accepted << "the lens rim at r = geometry.lens_diameter / 2 must have a positive thickness "
+                "(it is "
+             << m.rim_front.y - m.rim_back.y
+             << "): increase lens_thickness or the lens radii, or decrease lens_diameter";
+    reject("geometry.lens_thickness", g.lens_thickness, accepted.str());
+  }
+
+  // The ring point: ciliary_offset along the inner sphere behind the
+  // posterior junction; the posterior profile is parametrised by arc length.
+  const double ring_ps = e.posterior.junction_s() + g.ciliary_offset;
+  if (!(ring_ps < e.posterior.length())) {
+    std::ostringstream accepted;
+    accepted << "the zonule ring must lie above the cut plane: ciliary_offset < "
+             << e.posterior.length() - e.posterior.junction_s();
+    reject("geometry.ciliary_offset", g.ciliary_offset, accepted.str());
+  }
+  m.ring = e.posterior.at(ring_ps);
+  if (!(m.ring.r > lr))
+    reject("geometry.ciliary_offset", g.ciliary_offset,
+           "the zonule ring must lie outside the lens equator (ring radius > lens_diameter / 2)");
+  // Invert the matching s -> s' (linear beyond the junction).
+  const double sl = e.anterior.junction_s(), S = e.anterior.length();
+  const double psl = e.posterior.junction_s(), pS = e.posterior.length();
+  m.ring_s = sl + g.ciliary_offset * (S - sl) / (pS - psl);
+  m.rho_nucleus = g.lens_nucleus_fraction * lr;
+  const Meridian mid{lr, (m.rim_front.y + m.rim_back.y) / 2};
+  m.rho_max = lr + std::hypot(m.ring.r - mid.r, m.ring.y - mid.y);
+
+  // The lens and the band must lie strictly inside the cavity (the band
+  // ends on its wall at the ring point).
+  const auto inside = [&](Meridian p) {
+    if (!(p.y > g.cut_y && p.y < cavity_top))
+      return false;
+    const double w2 = p.y >= yp ? Rp * Rp - (p.y - cp) * (p.y - cp) : Ri * Ri - p.y * p.y;
+    return p.r * p.r < w2;
+  };
+  const int samples = 256;
+  for (int i = 0; i <= samples; ++i) {
+    const double rho = lr * i / samples;
+    if (!inside(m.anterior(rho)))
+      reject("geometry.anterior_chamber_depth", g.anterior_chamber_depth,
+             "the anterior lens surface must lie inside the cavity, behind the posterior cornea");
+    if (!inside(m.posterior(rho)))
+      reject("geometry.lens_thickness", g.lens_thickness,
+             "the posterior lens surface must lie inside the cavity, above the cut plane");
+  }
+  for (int i = 0; i < samples; ++i) {
+    const double rho = lr + (m.rho_max - lr) * i / samples;
+    if (!inside(m.anterior(rho)) || !inside(m.posterior(rho)))
+      reject("geometry.ciliary_offset", g.ciliary_offset,
+             "the zonule band from the lens equator to the ring must not cross the cornea "
+             "or the sclera");
+  }
+  e.diaphragm = m;
+
+  // Chamber volumes: pi r^2 dy along their counter-clockwise meridian
+  // boundaries (r right, y up); the axis and the cut plane add nothing.
+  d.aqueous_volume = zone_volume(m.front_R, m.front_c, m.front_pole, m.rim_front.y)
+                     + segment_volume(m.rim_front, m.ring) + zone_volume(Ri, 0, m.ring.y, yp)
+                     + zone_volume(Rp, cp, yp, cavity_top);
+  d.vitreous_volume = zone_volume(Ri, 0, g.cut_y, m.ring.y) + segment_volume(m.ring, m.rim_back)
+                      + zone_volume(m.back_R, m.back_c, m.rim_back.y, m.back_pole);
 }
 
 /// The y of the anterior corneal sphere's centre (unvalidated).
@@ -205,7 +358,7 @@ Layout layout(const Geometry& g)
           << ") so that cornea and sclera keep some anterior arc length";
     reject("geometry.limbus_width", w, range.str());
   }
-  const Layout e{d, anterior, posterior, sl - w / 2, sl + w / 2};
+  Layout e{d, anterior, posterior, sl - w / 2, sl + w / 2};
 
   // The sweep X(s, t) = A + t (P - A) must not fold. Its meridian Jacobian
   // dX/ds x (P - A) is linear in t and -tc < 0 at the apex, so it must be
@@ -226,6 +379,8 @@ Layout layout(const Geometry& g)
         throw std::invalid_argument(message.str());
       }
     }
+  if (g.internal_structures)
+    add_diaphragm(g, e);
   return e;
 }
 
@@ -254,18 +409,46 @@ private:
   std::vector<std::pair<std::string, double>> saved_;
 };
 
-/// Boundary groups; the values are the physical tags.
-enum class Group { anterior_cornea = 1, anterior_sclera, cavity_wall, symmetry_x, symmetry_z, fixed };
+/// Boundary groups; the values are the physical tags. cavity_wall without,
+/// aqueous_wall and vitreous_wall with internal structures.
+enum class Group
+{
+  anterior_cornea = 1,
+  anterior_sclera,
+  cavity_wall,
+  symmetry_x,
+  symmetry_z,
+  fixed,
+  aqueous_wall,
+  vitreous_wall
+};
+constexpr int group_count = 8;
+constexpr int part_count = 7;
 
-/// The meshed chart: per node the arc length s and (cos, sin) of phi; per
-/// triangle its sorted node indices, chart orientation and part.
+/// How to mesh a quarter-disc chart: circular arcs at `radii` (increasing;
+/// annulus i lies between radii[i - 1] and radii[i], annulus 0 is the
+/// sector inside radii[0]), the element size as a function of the chart
+/// radius, optionally one arc meshed transfinitely with `ring_points`
+/// nodes uniform in phi, and whether the outer arc is the fixed face.
+struct ChartSpec
+{
+  std::vector<double> radii;
+  std::function<double(double)> size;
+  int ring_arc = -1;
+  int ring_points = 0;
+  bool fixed_outer = false;
+};
+
+/// The meshed chart: per node the chart radius s and (cos, sin) of phi;
+/// per triangle its sorted node indices, chart orientation and annulus.
 struct Chart
 {
   std::vector<double> s, cos_phi, sin_phi;
   std::vector<std::array<std::size_t, 3>> triangles;
   std::vector<int> orientation; ///< +1 if the sorted triangle is counter-clockwise
-  std::vector<Part> part;
+  std::vector<int> annulus;
   std::unordered_map<std::uint64_t, Group> side_edges; ///< boundary edge key -> group
+  std::vector<std::size_t> ring; ///< nodes of the transfinite arc, by increasing phi
 };
 
 /// Key of the undirected chart edge (a, b).
@@ -274,27 +457,14 @@ std::uint64_t edge_key(std::size_t a, std::size_t b)
   return (std::uint64_t(std::min(a, b)) << 32) | std::uint64_t(std::max(a, b));
 }
 
-/// Meshes the quarter-disc chart of radius S in a temporary gmsh model,
-/// with rings at the part bounds and the junction, and reads it back.
-Chart mesh_chart(const Layout& e, const Refinement& ref)
+/// Meshes a quarter-disc chart in a temporary gmsh model and reads it back.
+Chart mesh_chart(const ChartSpec& spec)
 {
   namespace geo = gmsh::model::geo;
-  const std::array<double, 4> radii{e.limbus_begin, e.anterior.junction_s(),
-                                    e.limbus_end, e.anterior.length()};
-  const std::array<Part, 4> ring_part{Part::cornea, Part::limbus, Part::limbus, Part::sclera};
-
-  // Size: the least over the parts of the part's size plus `gradation`
-  // times the distance to the part, so sizes change smoothly (at most
-  // 0.3 mm per mm) and never exceed the part's own size inside it.
-  const double gradation = 0.3;
-  const std::array<double, 3> size{ref.size_cornea, ref.size_limbus, ref.size_sclera};
-  const std::array<double, 4> bounds{0, e.limbus_begin, e.limbus_end, e.anterior.length()};
-  const auto size_at = [=](int, int, double x, double y, double) {
-    const double s = std::hypot(x, y);
-    double h = size[0] + gradation * std::max(0.0, s - bounds[1]);
-    for (std::size_t p = 1; p < 3; ++p)
-      h = std::min(h, size[p] + gradation * std::max({0.0, bounds[p] - s, s - bounds[p + 1]}));
-    return h;
+  const std::vector<double>& radii = spec.radii;
+  const std::size_t na = radii.size();
+  const auto size_at = [&spec](int, int, double x, double y, double) {
+    return spec.size(std::hypot(x, y));
   };
 
   const std::string name = "eye_chart";
@@ -312,9 +482,9 @@ Chart mesh_chart(const Layout& e, const Refinement& ref)
   } cleanup{name};
 
   const int origin = geo::addPoint(0, 0, 0);
-  std::array<int, 4> along_x{}, along_z{}, arcs{}, rings{};
+  std::vector<int> along_x(na), along_z(na), arcs(na), rings(na);
   int last_x = origin, last_z = origin;
-  for (std::size_t i = 0; i < radii.size(); ++i) {
+  for (std::size_t i = 0; i < na; ++i) {
     const int px = geo::addPoint(radii[i], 0, 0), pz = geo::addPoint(0, radii[i], 0);
     along_x[i] = geo::addLine(last_x, px);
     along_z[i] = geo::addLine(last_z, pz);
@@ -326,6 +496,8 @@ Chart mesh_chart(const Layout& e, const Refinement& ref)
     last_x = px;
     last_z = pz;
   }
+  if (spec.ring_arc >= 0)
+    geo::mesh::setTransfiniteCurve(arcs[spec.ring_arc], spec.ring_points);
   geo::synchronize();
 
   OptionGuard options;
@@ -352,13 +524,34 @@ Chart mesh_chart(const Layout& e, const Refinement& ref)
     chart.sin_phi[i] = s > 0 ? y / s : 0;
   }
   // Nodes on the rings get their radius exactly.
-  for (std::size_t i = 0; i < arcs.size(); ++i) {
+  for (std::size_t i = 0; i < na; ++i) {
     gmsh::model::mesh::getNodes(tags, xyz, uvw, 1, arcs[i], true, false);
     for (std::size_t t : tags)
       chart.s[index.at(t)] = radii[i];
   }
+  // Nodes on the transfinite arc get phi = j pi / (2 (M - 1)) exactly.
+  if (spec.ring_arc >= 0) {
+    std::vector<std::size_t> ring_tags;
+    gmsh::model::mesh::getNodes(ring_tags, xyz, uvw, 1, arcs[spec.ring_arc], true, false);
+    for (std::size_t t : ring_tags)
+      chart.ring.push_back(index.at(t));
+    std::sort(chart.ring.begin(), chart.ring.end(), [&](std::size_t a, std::size_t b) {
+      return std::atan2(chart.sin_phi[a], chart.cos_phi[a])
+             < std::atan2(chart.sin_phi[b], chart.cos_phi[b]);
+    });
+    const std::size_t m = chart.ring.size();
+    if (m != static_cast<std::size_t>(spec.ring_points))
+      throw std::runtime_error("nct::eye::build: gmsh put " + std::to_string(m)
+                               + " nodes on the zonule ring arc instead of "
+                               + std::to_string(spec.ring_points));
+    for (std::size_t j = 0; j < m; ++j) {
+      const double phi = std::numbers::pi / 2 * double(j) / double(m - 1);
+      chart.cos_phi[chart.ring[j]] = j + 1 == m ? 0.0 : std::cos(phi);
+      chart.sin_phi[chart.ring[j]] = j + 1 == m ? 1.0 : std::sin(phi);
+    }
+  }
 
-  for (std::size_t i = 0; i < rings.size(); ++i) {
+  for (std::size_t i = 0; i < na; ++i) {
     std::vector<std::size_t> element_tags, node_tags; // gmsh 4.8 rejects reused non-empty vectors
     gmsh::model::mesh::getElementsByType(2, element_tags, node_tags, rings[i]);
     for (std::size_t t = 0; t < element_tags.size(); ++t) {
@@ -371,7 +564,7 @@ Chart mesh_chart(const Layout& e, const Refinement& ref)
                            - (y(v[1]) - y(v[0])) * (x(v[2]) - x(v[0]));
       chart.triangles.push_back(v);
       chart.orientation.push_back(area2 > 0 ? 1 : -1);
-      chart.part.push_back(ring_part[i]);
+      chart.annulus.push_back(static_cast<int>(i));
     }
   }
 
@@ -381,11 +574,12 @@ Chart mesh_chart(const Layout& e, const Refinement& ref)
     for (std::size_t t = 0; t < element_tags.size(); ++t)
       chart.side_edges[edge_key(index.at(node_tags[2 * t]), index.at(node_tags[2 * t + 1]))] = group;
   };
-  for (std::size_t i = 0; i < radii.size(); ++i) {
+  for (std::size_t i = 0; i < na; ++i) {
     add_side(along_x[i], Group::symmetry_z);
     add_side(along_z[i], Group::symmetry_x);
   }
-  add_side(arcs.back(), Group::fixed);
+  if (spec.fixed_outer)
+    add_side(arcs.back(), Group::fixed);
   return chart;
 }
 
@@ -401,46 +595,69 @@ double signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
           + u[2] * (v[0] * w[1] - v[1] * w[0])) / 6;
 }
 
-/// Sweeps the chart through the shell and writes the mesh into a new
-/// gmsh model "eye" as discrete entities with physical groups.
-void write_eye(const Layout& e, const Chart& chart, int layers)
+/// The mesh being assembled: nodes by tag - 1, tets by part, boundary
+/// triangles by group (node tags, flattened).
+struct Assembly
 {
-  const std::size_t nc = chart.s.size(), nl = static_cast<std::size_t>(layers);
+  std::vector<Vec3> x;
+  std::vector<int> owner; ///< lowest part using the node (part_count + 1: none)
+  std::array<std::vector<std::size_t>, part_count> tets;
+  std::array<std::vector<std::size_t>, group_count> faces;
+};
 
-  // Nodes: tag k nc + v + 1 for chart node v on layer k.
-  std::vector<Vec3> x(nc * (nl + 1));
-  for (std::size_t v = 0; v < nc; ++v) {
-    const Meridian a = e.anterior.at(chart.s[v]);
-    const Meridian p = e.posterior.at(e.matched(chart.s[v]));
-    for (std::size_t k = 0; k <= nl; ++k) {
-      const double t = double(k) / double(nl);
-      const double r = a.r + t * (p.r - a.r), y = a.y + t * (p.y - a.y);
-      x[k * nc + v] = {r * chart.cos_phi[v], y, r * chart.sin_phi[v]};
-    }
-  }
-  const auto at = [&](std::size_t tag) -> const Vec3& { return x[tag - 1]; };
+/// A layered body: a chart swept through `layers` layers (layer 0 the
+/// anterior surface). Chart nodes that are `collapsed` are one node on all
+/// layers (a ring where the layers meet).
+struct Body
+{
+  const Chart& chart;
+  std::size_t layers;
+  std::function<std::size_t(std::size_t k, std::size_t v)> tag; ///< node tag of (layer, chart node)
+  std::function<bool(std::size_t v)> collapsed;
+  std::function<Part(std::size_t triangle, std::size_t k)> part;
+  std::function<Group(std::size_t triangle, bool posterior)> cap; ///< group of the layer 0 / N faces
+};
 
-  // The prism rule's tets (b0,b1,b2,t2), (b0,b1,t1,t2), (b0,t0,t1,t2), the
-  // second with t1, t2 swapped so that all three have the orientation of the
-  // chart triangle, made positive by swapping the last two nodes of
-  // clockwise ones. Each tet's faces are listed outwards (face j opposite
-  // node j); those on the boundary go to their group. Each node is put on
-  // the lowest-numbered part's volume that uses it (owner).
-  std::array<std::vector<std::size_t>, 3> tets;
-  std::array<std::vector<std::size_t>, 6> faces;
-  std::vector<int> owner(x.size(), 4);
+/// Splits the body's prisms into tets and collects its boundary triangles.
+///
+/// The prism rule's tets (b0,b1,b2,t2), (b0,b1,t1,t2), (b0,t0,t1,t2), the
+/// second with t1, t2 swapped so that all three have the orientation of the
+/// chart triangle, made positive by swapping the last two nodes of
+/// clockwise ones; tets with a repeated node (at a collapsed ring) are
+/// dropped, the others tile the collapsed prism and split its quad faces
+/// by the same diagonal rule (lower chart index bottom to higher top) as
+/// the neighbours. Each tet's faces are listed outwards (face j opposite
+/// node j); those on the boundary go to their group. Each node is put on
+/// the lowest-numbered part's volume that uses it (owner).
+void sweep(Assembly& mesh, const Body& body)
+{
+  const Chart& chart = body.chart;
+  const std::size_t nl = body.layers;
+  const auto at = [&](std::size_t tag) -> const Vec3& { return mesh.x[tag - 1]; };
+  struct Local
+  {
+    std::size_t k, v;
+  };
   const std::array<std::array<int, 3>, 4> outward{{{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}}};
   for (std::size_t i = 0; i < chart.triangles.size(); ++i) {
     const auto& v = chart.triangles[i];
-    const int part = static_cast<int>(chart.part[i]);
     for (std::size_t k = 0; k < nl; ++k) {
-      const auto b = [&](int j) { return k * nc + v[j] + 1; };
-      const auto t = [&](int j) { return (k + 1) * nc + v[j] + 1; };
-      std::array<Tet, 3> prism{{{b(0), b(1), b(2), t(2)}, {b(0), b(1), t(2), t(1)},
-                                {b(0), t(0), t(1), t(2)}}};
-      for (Tet& tet : prism) {
+      const int part = static_cast<int>(body.part(i, k));
+      const auto b = [&](int j) { return Local{k, v[j]}; };
+      const auto t = [&](int j) { return Local{k + 1, v[j]}; };
+      std::array<std::array<Local, 4>, 3> prism{{{b(0), b(1), b(2), t(2)},
+                                                  {b(0), b(1), t(2), t(1)},
+                                                  {b(0), t(0), t(1), t(2)}}};
+      for (auto& local : prism) {
         if (chart.orientation[i] < 0)
-          std::swap(tet[2], tet[3]);
+          std::swap(local[2], local[3]);
+        Tet tet;
+        for (int j = 0; j < 4; ++j)
+          tet[j] = body.tag(local[j].k, local[j].v);
+        Tet sorted = tet;
+        std::sort(sorted.begin(), sorted.end());
+        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+          continue; // collapsed at the ring
         if (!(signed_volume(at(tet[0]), at(tet[1]), at(tet[2]), at(tet[3])) > 0)) {
           const Vec3& c = at(tet[0]);
           std::ostringstream message;
@@ -448,51 +665,191 @@ void write_eye(const Layout& e, const Chart& chart, int layers)
                   << ", " << c[2] << "); the sweep folds for this geometry and refinement";
           throw std::runtime_error(message.str());
         }
-        tets[part - 1].insert(tets[part - 1].end(), tet.begin(), tet.end());
+        mesh.tets[part - 1].insert(mesh.tets[part - 1].end(), tet.begin(), tet.end());
         for (std::size_t n : tet)
-          owner[n - 1] = std::min(owner[n - 1], part);
+          mesh.owner[n - 1] = std::min(mesh.owner[n - 1], part);
 
         for (const auto& f : outward) {
-          const std::array<std::size_t, 3> face{tet[f[0]], tet[f[1]], tet[f[2]]};
-          std::array<std::size_t, 3> layer{}, node{};
-          for (int j = 0; j < 3; ++j) {
-            layer[j] = (face[j] - 1) / nc;
-            node[j] = (face[j] - 1) % nc;
-          }
+          const std::array<Local, 3> face{local[f[0]], local[f[1]], local[f[2]]};
+          const auto on_layer = [&](std::size_t layer) {
+            return std::all_of(face.begin(), face.end(), [&](const Local& n) {
+              return n.k == layer || body.collapsed(n.v);
+            });
+          };
           Group group;
-          if (layer[0] == 0 && layer[1] == 0 && layer[2] == 0)
-            group = chart.part[i] == Part::cornea ? Group::anterior_cornea : Group::anterior_sclera;
-          else if (layer[0] == nl && layer[1] == nl && layer[2] == nl)
-            group = Group::cavity_wall;
+          if (on_layer(0))
+            group = body.cap(i, false);
+          else if (on_layer(nl))
+            group = body.cap(i, true);
           else {
             // A side face spans one chart edge: exactly two distinct chart nodes.
-            const std::size_t e0 = node[0], e1 = node[1] != e0 ? node[1] : node[2];
-            if (e0 == e1 || (node[2] != e0 && node[2] != e1))
+            const std::size_t e0 = face[0].v, e1 = face[1].v != e0 ? face[1].v : face[2].v;
+            if (e0 == e1 || (face[2].v != e0 && face[2].v != e1))
               continue;
             const auto side = chart.side_edges.find(edge_key(e0, e1));
             if (side == chart.side_edges.end())
               continue;
             group = side->second;
           }
-          auto& list = faces[static_cast<int>(group) - 1];
-          list.insert(list.end(), face.begin(), face.end());
+          auto& list = mesh.faces[static_cast<int>(group) - 1];
+          for (int j = 0; j < 3; ++j)
+            list.push_back(tet[f[j]]);
         }
       }
     }
   }
+}
+
+/// Puts the node (r, y) at azimuth (c, s) = (cos phi, sin phi).
+Vec3 place(Meridian p, double c, double s) { return {p.r * c, p.y, p.r * s}; }
+
+/// Meshes both bodies and writes the mesh into a new gmsh model "eye" as
+/// discrete entities with physical groups.
+void build_eye(const Layout& e, const Refinement& ref)
+{
+  const Diaphragm& dia = e.diaphragm;
+  const std::size_t nl = static_cast<std::size_t>(ref.layers);
+
+  // Shell chart: rings at the part bounds, the junction and the zonule ring.
+  // Size: the least over the parts of the part's size plus `gradation`
+  // times the distance to the part, so sizes change smoothly (at most
+  // 0.3 mm per mm) and never exceed the part's own size inside it.
+  const double gradation = 0.3;
+  const std::array<double, 3> size{ref.size_cornea, ref.size_limbus, ref.size_sclera};
+  const std::array<double, 4> bounds{0, e.limbus_begin, e.limbus_end, e.anterior.length()};
+  ChartSpec shell_spec;
+  shell_spec.size = [=](double s) {
+    double h = size[0] + gradation * std::max(0.0, s - bounds[1]);
+    for (std::size_t p = 1; p < 3; ++p)
+      h = std::min(h, size[p] + gradation * std::max({0.0, bounds[p] - s, s - bounds[p + 1]}));
+    return h;
+  };
+  shell_spec.radii = {e.limbus_begin, e.anterior.junction_s(), e.limbus_end, e.anterior.length()};
+  shell_spec.fixed_outer = true;
+  if (dia.on) {
+    // The ring arc, merged with an existing one it (nearly) coincides with.
+    auto& radii = shell_spec.radii;
+    const double tol = 1e-9 * e.anterior.length();
+    auto it = std::find_if(radii.begin(), radii.end(),
+                           [&](double r) { return std::abs(r - dia.ring_s) < tol; });
+    if (it == radii.end())
+      it = radii.insert(std::upper_bound(radii.begin(), radii.end(), dia.ring_s), dia.ring_s);
+    shell_spec.ring_arc = static_cast<int>(it - radii.begin());
+    const double chart_arc = std::numbers::pi / 2 * dia.ring_s;
+    shell_spec.ring_points =
+        1 + std::max(2, static_cast<int>(std::ceil(chart_arc / shell_spec.size(dia.ring_s))));
+  }
+  const Chart shell = mesh_chart(shell_spec);
+  std::vector<Part> shell_part;
+  for (std::size_t i = 0; i < shell_spec.radii.size(); ++i) {
+    const double lo = i > 0 ? shell_spec.radii[i - 1] : 0, mid = (lo + shell_spec.radii[i]) / 2;
+    shell_part.push_back(mid < e.limbus_begin ? Part::cornea
+                         : mid < e.limbus_end ? Part::limbus
+                                              : Part::sclera);
+  }
+
+  // Shell nodes: tag k nc + v + 1 for chart node v on layer k.
+  const std::size_t nc = shell.s.size();
+  Assembly mesh;
+  mesh.x.resize(nc * (nl + 1));
+  for (std::size_t v = 0; v < nc; ++v) {
+    const Meridian a = e.anterior.at(shell.s[v]);
+    const Meridian p = e.posterior.at(e.matched(shell.s[v]));
+    for (std::size_t k = 0; k <= nl; ++k) {
+      const double t = double(k) / double(nl);
+      mesh.x[k * nc + v] = place({a.r + t * (p.r - a.r), a.y + t * (p.y - a.y)},
+                                 shell.cos_phi[v], shell.sin_phi[v]);
+    }
+  }
+  mesh.owner.assign(mesh.x.size(), part_count + 1);
+  sweep(mesh, Body{shell, nl, [nc](std::size_t k, std::size_t v) { return k * nc + v + 1; },
+                   [](std::size_t) { return false; },
+                   [&](std::size_t i, std::size_t) { return shell_part[shell.annulus[i]]; },
+                   [&](std::size_t i, bool posterior) {
+                     if (!posterior)
+                       return shell_part[shell.annulus[i]] == Part::cornea ? Group::anterior_cornea
+                                                                           : Group::anterior_sclera;
+                     if (!dia.on)
+                       return Group::cavity_wall;
+                     return shell.annulus[i] <= shell_spec.ring_arc ? Group::aqueous_wall
+                                                                    : Group::vitreous_wall;
+                   }});
+
+  if (dia.on) {
+    // Diaphragm chart: rings at the nucleus bound, the lens equator and the
+    // ring, whose arc has the shell ring's points; the size grades linearly
+    // along the band from size_lens to the ring's node spacing.
+    const int m = shell_spec.ring_points;
+    const double ring_h = std::numbers::pi / 2 * dia.rho_max / (m - 1);
+    ChartSpec spec;
+    spec.radii = {dia.rho_nucleus, dia.lens_r, dia.rho_max};
+    spec.ring_arc = 2;
+    spec.ring_points = m;
+    const double lens_h = ref.size_lens, lr = dia.lens_r, band = dia.rho_max - dia.lens_r;
+    spec.size = [=](double rho) {
+      return rho <= lr ? lens_h : lens_h + (ring_h - lens_h) * std::min(1.0, (rho - lr) / band);
+    };
+    const Chart chart = mesh_chart(spec);
+    const std::size_t nd = chart.s.size();
+
+    // Ring nodes are the shell's posterior nodes on its ring, by index;
+    // the other nodes get consecutive tags after the shell's.
+    std::vector<std::size_t> ring_of(nd, std::size_t(-1)), free_index(nd, std::size_t(-1));
+    for (std::size_t j = 0; j < chart.ring.size(); ++j)
+      ring_of[chart.ring[j]] = shell.ring[j];
+    std::size_t nf = 0;
+    for (std::size_t v = 0; v < nd; ++v)
+      if (ring_of[v] == std::size_t(-1))
+        free_index[v] = nf++;
+    const std::size_t base = mesh.x.size();
+    mesh.x.resize(base + nf * (nl + 1));
+    mesh.owner.resize(mesh.x.size(), part_count + 1);
+    for (std::size_t v = 0; v < nd; ++v) {
+      if (free_index[v] == std::size_t(-1))
+        continue;
+      const Meridian a = dia.anterior(chart.s[v]), p = dia.posterior(chart.s[v]);
+      for (std::size_t k = 0; k <= nl; ++k) {
+        const double t = double(k) / double(nl);
+        mesh.x[base + k * nf + free_index[v]] = place(
+            {a.r + t * (p.r - a.r), a.y + t * (p.y - a.y)}, chart.cos_phi[v], chart.sin_phi[v]);
+      }
+    }
+    const std::size_t quarter = nl / 4;
+    sweep(mesh,
+          Body{chart, nl,
+               [&](std::size_t k, std::size_t v) {
+                 return ring_of[v] != std::size_t(-1) ? nl * nc + ring_of[v] + 1
+                                                      : base + k * nf + free_index[v] + 1;
+               },
+               [&](std::size_t v) { return ring_of[v] != std::size_t(-1); },
+               [&](std::size_t i, std::size_t k) {
+                 const int annulus = chart.annulus[i];
+                 if (annulus == 2)
+                   return nl > 1 && k + 1 == nl ? Part::vitreous_membrane : Part::zonule;
+                 if (annulus == 0 && k >= quarter && k < nl - quarter)
+                   return Part::lens_nucleus;
+                 return Part::lens_cortex;
+               },
+               [](std::size_t, bool posterior) {
+                 return posterior ? Group::vitreous_wall : Group::aqueous_wall;
+               }});
+  }
 
   gmsh::model::add("eye");
-  const std::array<std::string, 3> part_names{"cornea", "limbus", "sclera"};
-  const std::array<std::string, 6> group_names{"anterior_cornea", "anterior_sclera", "cavity_wall",
-                                               "symmetry_x", "symmetry_z", "fixed"};
-  for (int p = 1; p <= 3; ++p) {
+  const std::array<std::string, part_count> part_names{
+      "cornea", "limbus", "sclera", "lens_cortex", "lens_nucleus", "zonule", "vitreous_membrane"};
+  const std::array<std::string, group_count> group_names{
+      "anterior_cornea", "anterior_sclera", "cavity_wall", "symmetry_x",
+      "symmetry_z",      "fixed",           "aqueous_wall", "vitreous_wall"};
+  const int parts = dia.on ? 7 : 3;
+  for (int p = 1; p <= parts; ++p) {
     gmsh::model::addDiscreteEntity(3, p);
     std::vector<std::size_t> tags;
     std::vector<double> coords;
-    for (std::size_t n = 0; n < x.size(); ++n)
-      if (owner[n] == p) {
+    for (std::size_t n = 0; n < mesh.x.size(); ++n)
+      if (mesh.owner[n] == p) {
         tags.push_back(n + 1);
-        coords.insert(coords.end(), x[n].begin(), x[n].end());
+        coords.insert(coords.end(), mesh.x[n].begin(), mesh.x[n].end());
       }
     gmsh::model::mesh::addNodes(3, p, tags, coords);
   }
@@ -504,14 +861,18 @@ void write_eye(const Layout& e, const Chart& chart, int layers)
       tag = next++;
     gmsh::model::mesh::addElementsByType(entity, type, tags, nodes);
   };
-  for (int p = 1; p <= 3; ++p) {
-    add_elements(p, 4, tets[p - 1], 4);
+  for (int p = 1; p <= parts; ++p) {
+    add_elements(p, 4, mesh.tets[p - 1], 4);
     gmsh::model::addPhysicalGroup(3, {p}, p);
     gmsh::model::setPhysicalName(3, p, part_names[p - 1]);
   }
-  for (int s = 1; s <= 6; ++s) {
+  for (int s = 1; s <= group_count; ++s) {
+    const bool used = dia.on ? s != static_cast<int>(Group::cavity_wall)
+                             : s <= static_cast<int>(Group::fixed);
+    if (!used)
+      continue;
     gmsh::model::addDiscreteEntity(2, s);
-    add_elements(s, 2, faces[s - 1], 3);
+    add_elements(s, 2, mesh.faces[s - 1], 3);
     gmsh::model::addPhysicalGroup(2, {s}, s);
     gmsh::model::setPhysicalName(2, s, group_names[s - 1]);
   }
@@ -550,6 +911,10 @@ std::array<std::array<double, 3>, 2> fibres(const Geometry& g, Part part,
     return {e_phi, Vec3{0, 0, 0}};
   }
   case Part::sclera:
+  case Part::lens_cortex:
+  case Part::lens_nucleus:
+  case Part::zonule:
+  case Part::vitreous_membrane:
     break;
   }
   return {Vec3{0, 0, 0}, Vec3{0, 0, 0}};
@@ -565,12 +930,13 @@ void build(const Geometry& g, const Refinement& r)
     reject("mesh.size_limbus", r.size_limbus, "must be > 0");
   if (!(r.size_sclera > 0))
     reject("mesh.size_sclera", r.size_sclera, "must be > 0");
+  if (g.internal_structures && !(r.size_lens > 0))
+    reject("mesh.size_lens", r.size_lens, "must be > 0");
   const Layout e = layout(g);
   try {
     OptionGuard quiet;
     quiet.set("General.Terminal", 0);
-    const Chart chart = mesh_chart(e, r);
-    write_eye(e, chart, r.layers);
+    build_eye(e, r);
   } catch (const std::string& message) { // gmsh 4.8 throws its last error as a string
     throw std::runtime_error("nct::eye::build: gmsh failed: " + message);
   }

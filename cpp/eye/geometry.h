@@ -22,6 +22,20 @@ struct Geometry
   double sclera_outer_radius = 12.0; ///< Rs
   double sclera_thickness = 0.8;     ///< ts
   double cut_y = -4.0;               ///< posterior cut plane y = cut_y
+
+  /// Internal structures: the "diaphragm" of lens, zonule band and vitreous
+  /// membrane, a second layered body splitting the cavity into the aqueous
+  /// (in front) and vitreous (behind) chambers. Off: the eye is as without
+  /// these keys (one "cavity_wall") and the keys below are not validated.
+  bool internal_structures = false;
+  double anterior_chamber_depth = 3.0; ///< posterior corneal apex to anterior lens pole, on the axis
+  double lens_thickness = 4.0;         ///< anterior to posterior lens pole, on the axis
+  double lens_diameter = 9.5;          ///< diameter of the lens equator
+  double lens_anterior_radius = 10.0;  ///< anterior lens sphere (centre below the anterior pole)
+  double lens_posterior_radius = 6.0;  ///< posterior lens sphere (centre above the posterior pole)
+  double lens_nucleus_fraction = 0.6;  ///< nucleus: chart radius < this times the lens radius (middle layers)
+  double ciliary_offset = 2.0; ///< arc length along the inner scleral sphere from the posterior
+                               ///< cornea-sclera junction, backwards, to the zonule ring
 };
 
 /// Mesh refinement of the idealised eye.
@@ -31,6 +45,7 @@ struct Refinement
   double size_cornea = 0.5;   ///< in-plane element size in the cornea [mm]
   double size_limbus = 0.5;   ///< in-plane element size in the limbus [mm]
   double size_sclera = 1.5;   ///< in-plane element size in the sclera [mm]
+  double size_lens = 0.8;     ///< in-plane element size in the lens (internal structures) [mm]
 };
 
 /// Points and quantities derived from a Geometry.
@@ -45,20 +60,48 @@ struct Derived
   double junction_posterior_y;
   double peripheral_thickness;     ///< corneal thickness at the junction, along the anterior normal
   double cavity_volume;            ///< whole-eye analytic volume bounded by the inner surface and the cut plane [mm^3]
+  /// Internal structures only (else 0), whole eye [mm^3]: the chamber
+  /// between the inner surface in front of the zonule ring and the
+  /// diaphragm's anterior surface, and the one between the inner surface
+  /// behind the ring, the diaphragm's posterior surface and the cut plane.
+  /// aqueous + vitreous + diaphragm solid = cavity_volume.
+  double aqueous_volume;
+  double vitreous_volume;
 };
 
 /// Derived points and the analytic cavity volume; throws
 /// std::invalid_argument naming the geometry key when the shape is
-/// impossible (e.g. the posterior cornea misses the inner sclera).
+/// impossible (e.g. the posterior cornea misses the inner sclera, or the
+/// lens does not fit the cavity).
+///
+/// Internal structures (axisymmetric, meridian (r, y)): lens poles on the
+/// axis at y = apex_y - cornea_central_thickness - anterior_chamber_depth
+/// and lens_thickness below; anterior/posterior surfaces spheres through
+/// the poles, cut at r = lens_diameter / 2 (rim thickness must be > 0).
+/// The zonule band runs from the two rim points straight to one ring point
+/// R on the inner scleral sphere (ciliary_offset behind the posterior
+/// junction), tapering to a cusp there. The lens and band must lie inside
+/// the cavity and R above the cut plane.
 Derived derive(const Geometry& g);
 
-/// Parts of the eye; the values are the volume physical tags.
-enum class Part { cornea = 1, limbus = 2, sclera = 3 };
+/// Parts of the eye; the values are the volume physical tags. The last
+/// four exist only with Geometry::internal_structures.
+enum class Part
+{
+  cornea = 1,
+  limbus = 2,
+  sclera = 3,
+  lens_cortex = 4,
+  lens_nucleus = 5,
+  zonule = 6,
+  vitreous_membrane = 7
+};
 
 /// Fibre directions of a point X in the reference configuration.
 /// Cornea: two families, e_x and e_z projected onto the tangent plane of
 /// the anterior corneal sphere at X and normalised. Limbus: one
-/// circumferential family e_phi; the second is zero. Sclera: both zero.
+/// circumferential family e_phi; the second is zero. Sclera and the
+/// internal structures (lens, zonule, vitreous membrane): both zero.
 /// Cheap and unvalidated: g must be one that derive() accepts.
 std::array<std::array<double, 3>, 2> fibres(const Geometry& g, Part part,
                                             const std::array<double, 3>& X);
@@ -69,7 +112,21 @@ std::array<std::array<double, 3>, 2> fibres(const Geometry& g, Part part,
 /// "anterior_sclera" (outer surface of limbus and sclera), "cavity_wall"
 /// (the whole inner surface), "symmetry_x" (on x = 0), "symmetry_z"
 /// (on z = 0), "fixed" (the cut face y = cut_y); surface tags 1..6 in that
-/// order, triangles oriented out of the solid. Throws std::invalid_argument
+/// order, triangles oriented out of the solid.
+///
+/// With Geometry::internal_structures the diaphragm is a second layered
+/// body (same layers) sharing the sclera's inner nodes on the zonule ring
+/// (a conforming line contact). Volumes add "lens_cortex", "lens_nucleus",
+/// "zonule", "vitreous_membrane" (tags 4..7 = Part); "cavity_wall" (3) is
+/// replaced by "aqueous_wall" (tag 7: posterior cornea and limbus, inner
+/// sclera in front of the ring, diaphragm's anterior surface) and
+/// "vitreous_wall" (tag 8: inner sclera behind the ring, diaphragm's
+/// posterior surface); diaphragm faces on x = 0 / z = 0 join symmetry_x /
+/// symmetry_z. Lens cells are nucleus for chart radius < nucleus fraction
+/// times lens radius and layers k in [floor(N/4), N - floor(N/4)) of N
+/// (all layers for N <= 3), else cortex; band cells are vitreous_membrane
+/// in the posterior-most layer and zonule otherwise (all zonule for N = 1).
+/// Throws std::invalid_argument
 /// for an impossible geometry or refinement (naming the scene key,
 /// geometry.* or mesh.*), std::runtime_error if gmsh fails or a
 /// tetrahedron comes out inverted.

@@ -1,6 +1,9 @@
 #include "meshio/model.h"
 
 #include <gmsh.h>
+#include <array>
+#include <set>
+#include <map>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
@@ -35,6 +38,51 @@ void group_elements(int dim, int group, int type,
     gmsh::model::mesh::getElementsByType(type, tags, enodes, e);
     nodes.insert(nodes.end(), enodes.begin(), enodes.end());
   }
+}
+
+/// Vertices around which the cells are not connected through faces that
+/// contain the vertex: two bodies touching along an edge or at a point.
+std::vector<bool> non_manifold_vertices(const std::vector<std::int64_t>& cells,
+                                        std::size_t num_vertices)
+{
+  std::vector<std::vector<std::size_t>> vertex_cells(num_vertices);
+  for (std::size_t c = 0; c < cells.size() / 4; ++c)
+    for (int i = 0; i < 4; ++i)
+      vertex_cells[cells[4 * c + i]].push_back(c);
+  std::vector<bool> flagged(num_vertices, false);
+  for (std::size_t v = 0; v < num_vertices; ++v)
+  {
+    // Union-find over v's cells, joined through the faces that contain v.
+    const auto& vc = vertex_cells[v];
+    std::vector<std::size_t> up(vc.size());
+    std::iota(up.begin(), up.end(), 0);
+    auto find = [&](std::size_t i)
+    {
+      while (up[i] != i)
+        i = up[i] = up[up[i]];
+      return i;
+    };
+    std::map<std::array<std::int64_t, 2>, std::size_t> faces; // the other two vertices
+    for (std::size_t k = 0; k < vc.size(); ++k)
+    {
+      std::array<std::int64_t, 3> others;
+      for (int i = 0, j = 0; i < 4; ++i)
+        if (cells[4 * vc[k] + i] != static_cast<std::int64_t>(v))
+          others[j++] = cells[4 * vc[k] + i];
+      for (int skip = 0; skip < 3; ++skip)
+      {
+        std::array<std::int64_t, 2> f{others[(skip + 1) % 3], others[(skip + 2) % 3]};
+        std::sort(f.begin(), f.end());
+        if (auto [it, fresh] = faces.emplace(f, k); !fresh)
+          up[find(k)] = find(it->second);
+      }
+    }
+    std::size_t clusters = 0;
+    for (std::size_t k = 0; k < vc.size(); ++k)
+      clusters += find(k) == k;
+    flagged[v] = clusters > 1;
+  }
+  return flagged;
 }
 
 } // namespace
@@ -185,11 +233,48 @@ Tagged distribute(MPI_Comm comm, const Model& model)
   graph::AdjacencyList<std::int64_t> cells(model.cells, offsets);
   fem::CoordinateElement element(mesh::CellType::tetrahedron, 1);
 
+  // dolfinx 0.5 finds the vertices shared between processes through the
+  // ghost cells it sends across shared faces. Where two bodies touch only
+  // along an edge or at a point (a non-manifold vertex), no face is shared,
+  // the vertex would be duplicated and the bodies come apart. So every
+  // cell at such a vertex also goes, as a ghost, to each process that owns
+  // another cell there; ghosts are dropped once the sharing is known.
+  const std::vector<bool> junction = non_manifold_vertices(model.cells, model.x.size() / 3);
+  auto partitioner = [junction, default_partitioner = mesh::create_cell_partitioner()](
+                         MPI_Comm comm, int nparts, int tdim,
+                         const graph::AdjacencyList<std::int64_t>& cells,
+                         mesh::GhostMode ghost_mode)
+  {
+    graph::AdjacencyList<std::int32_t> dest
+        = default_partitioner(comm, nparts, tdim, cells, ghost_mode);
+    // Only the rank that read the model holds cells (and `junction`).
+    std::map<std::int64_t, std::set<std::int32_t>> owners; // junction vertex -> ranks
+    for (std::int32_t c = 0; c < cells.num_nodes(); ++c)
+      for (auto v : cells.links(c))
+        if (static_cast<std::size_t>(v) < junction.size() && junction[v])
+          owners[v].insert(dest.links(c)[0]);
+    if (owners.empty())
+      return dest;
+    std::vector<std::int32_t> data, offsets{0};
+    for (std::int32_t c = 0; c < cells.num_nodes(); ++c)
+    {
+      std::vector<std::int32_t> d(dest.links(c).begin(), dest.links(c).end());
+      for (auto v : cells.links(c))
+        if (auto it = owners.find(v); it != owners.end())
+          for (std::int32_t r : it->second)
+            if (std::find(d.begin(), d.end(), r) == d.end())
+              d.push_back(r);
+      data.insert(data.end(), d.begin(), d.end());
+      offsets.push_back(static_cast<std::int32_t>(data.size()));
+    }
+    return graph::AdjacencyList<std::int32_t>(std::move(data), std::move(offsets));
+  };
+
   Tagged t;
   t.groups = model.groups;
   t.mesh = std::make_shared<mesh::Mesh>(mesh::create_mesh(
       comm, cells, element, model.x, {model.x.size() / 3, 3},
-      mesh::GhostMode::none));
+      mesh::GhostMode::none, partitioner));
 
   auto tags = [&](int dim, const std::vector<std::int64_t>& entities,
                   const std::vector<std::int32_t>& values, int nv)

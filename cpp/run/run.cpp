@@ -40,6 +40,7 @@ struct MeshSetup
   std::array<double, 3> volume_origin;
   std::vector<std::array<double, 3>> probes;
   std::vector<std::string> probe_names;
+  std::vector<std::string> cavity_names; ///< one per entry of boundaries.cavities
 };
 
 std::int32_t surface_tag(const meshio::Groups& g, const std::string& name,
@@ -79,6 +80,17 @@ eye::Geometry eye_geometry(const scene::Scene& s)
   g.sclera_outer_radius = s.real("geometry.sclera_outer_radius");
   g.sclera_thickness = s.real("geometry.sclera_thickness");
   g.cut_y = s.real("geometry.cut_y");
+  g.internal_structures = s.boolean("geometry.internal_structures");
+  if (g.internal_structures)
+  {
+    g.anterior_chamber_depth = s.real("geometry.anterior_chamber_depth");
+    g.lens_thickness = s.real("geometry.lens_thickness");
+    g.lens_diameter = s.real("geometry.lens_diameter");
+    g.lens_anterior_radius = s.real("geometry.lens_anterior_radius");
+    g.lens_posterior_radius = s.real("geometry.lens_posterior_radius");
+    g.lens_nucleus_fraction = s.real("geometry.lens_nucleus_fraction");
+    g.ciliary_offset = s.real("geometry.ciliary_offset");
+  }
   return g;
 }
 
@@ -123,6 +135,8 @@ MeshSetup eye_mesh(MPI_Comm comm, const scene::Scene& s)
   r.size_cornea = s.real("mesh.size_cornea");
   r.size_limbus = s.real("mesh.size_limbus");
   r.size_sclera = s.real("mesh.size_sclera");
+  if (g.internal_structures)
+    r.size_lens = s.real("mesh.size_lens");
 
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
@@ -147,7 +161,7 @@ MeshSetup eye_mesh(MPI_Comm comm, const scene::Scene& s)
     throw scene::Error(s.file().string() + ": " + bad_input);
   if (error = meshio::broadcast(comm, error); !error.empty())
     throw std::runtime_error("meshing the eye failed: " + error);
-  MeshSetup m{meshio::distribute(comm, meshio::extract(comm)), {}, {}, {}, {}, {}, {}};
+  MeshSetup m{meshio::distribute(comm, meshio::extract(comm)), {}, {}, {}, {}, {}, {}, {}};
   for (auto& [name, tag] : m.mesh.groups.volumes)
     m.parts[tag] = name;
   const auto& gs = m.mesh.groups;
@@ -155,13 +169,25 @@ MeshSetup eye_mesh(MPI_Comm comm, const scene::Scene& s)
   m.boundaries.fixed = {surface_tag(gs, "fixed", eye_model, "mesh")};
   m.boundaries.symmetry = {surface_tag(gs, "symmetry_x", eye_model, "mesh"),
                            surface_tag(gs, "symmetry_z", eye_model, "mesh")};
-  m.boundaries.cavity_wall = {surface_tag(gs, "cavity_wall", eye_model, "mesh")};
+  if (g.internal_structures)
+  {
+    m.boundaries.cavities = {{surface_tag(gs, "aqueous_wall", eye_model, "mesh")},
+                             {surface_tag(gs, "vitreous_wall", eye_model, "mesh")}};
+    m.cavity_names = {"aqueous", "vitreous"};
+  }
+  else
+  {
+    m.boundaries.cavities = {{surface_tag(gs, "cavity_wall", eye_model, "mesh")}};
+    m.cavity_names = {"cavity"};
+  }
   m.fibres = [g](const std::string& part, const std::array<double, 3>& X)
   {
-    eye::Part p = part == "cornea"   ? eye::Part::cornea
-                  : part == "limbus" ? eye::Part::limbus
-                                     : eye::Part::sclera;
-    return eye::fibres(g, p, X);
+    static const std::map<std::string, eye::Part> by_name
+        = {{"cornea", eye::Part::cornea},           {"limbus", eye::Part::limbus},
+           {"sclera", eye::Part::sclera},           {"lens_cortex", eye::Part::lens_cortex},
+           {"lens_nucleus", eye::Part::lens_nucleus}, {"zonule", eye::Part::zonule},
+           {"vitreous_membrane", eye::Part::vitreous_membrane}};
+    return eye::fibres(g, by_name.at(part), X);
   };
   m.volume_origin = {0.0, g.cut_y, 0.0};
   m.probes = {{0.0, d.apex_y, 0.0}};
@@ -185,11 +211,14 @@ MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s)
   };
   b.fixed = tags("boundary.fixed");
   b.symmetry = tags("boundary.symmetry");
-  b.cavity_wall = tags("boundary.cavity_wall");
+  if (auto walls = tags("boundary.cavity_wall"); !walls.empty())
+    b.cavities = {walls};
   b.surface_load = tags("boundary.surface_load");
 
   MeshSetup m{meshio::distribute(comm, meshio::extract(comm, s.real("mesh.size_max"))),
-              {}, b, {}, {}, {}, {}};
+              {}, b, {}, {}, {}, {}, {}};
+  if (!b.cavities.empty())
+    m.cavity_names = {"cavity"};
   for (auto& [name, tag] : groups.volumes)
     m.parts[tag] = name;
   std::map<std::string, std::array<std::array<double, 3>, 2>> constant;
@@ -320,7 +349,11 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
   summary["dofs"] = problem.dofs();
   summary["degree"] = degree;
   summary["symmetry_factor"] = problem.symmetry_factor();
-  summary["cavity_volume_reference_mm3"] = problem.cavity_volume();
+  {
+    auto volumes = problem.cavity_volumes();
+    for (std::size_t c = 0; c < volumes.size(); ++c)
+      summary[m.cavity_names[c] + "_volume_reference_mm3"] = volumes[c];
+  }
   nlohmann::json& history = summary["steps"] = nlohmann::json::array();
 
   // Load ramp with step cutting: a failed step is retried at half the
@@ -346,7 +379,8 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
   while (done < 1.0 - 1e-12)
   {
     const double target = std::min(1.0, done + increment);
-    problem.set_pressures(target * iop * mmHg, target * surface * mmHg);
+    problem.set_pressures(std::vector<double>(m.cavity_names.size(), target * iop * mmHg),
+                          target * surface * mmHg);
     const double t_step = MPI_Wtime();
     auto report = newton.solve(
         *problem.u->x(), [&](auto& b) { problem.residual(b); },
@@ -384,30 +418,38 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
     if (++successes >= 2 && increment < 1.0 / steps)
       increment = std::min(2 * increment, 1.0 / steps), successes = 0;
 
-    const double volume = problem.cavity_volume();
+    const auto volumes = problem.cavity_volumes();
     auto probes = problem.displacement_at(m.probes);
     nlohmann::json step = {{"load_fraction", done},
                            {"iop_mmHg", done * iop},
                            {"surface_pressure_mmHg", done * surface},
                            {"newton_iterations", report.iterations},
-                           {"residual_N", report.residuals.back()},
-                           {"cavity_volume_mm3", volume}};
+                           {"residual_N", report.residuals.back()}};
+    std::string volume_text;
+    for (std::size_t c = 0; c < volumes.size(); ++c)
+    {
+      step[m.cavity_names[c] + "_volume_mm3"] = volumes[c];
+      step[m.cavity_names[c] + "_pressure_mmHg"] = done * iop;
+      volume_text += format("  V_%s %.4f mm3", m.cavity_names[c].c_str(), volumes[c]);
+    }
     for (std::size_t i = 0; i < probes.size(); ++i)
       step[m.probe_names[i] + "_displacement_mm"] = vec(probes[i]);
     history.push_back(step);
     write_fields(done);
     folder.log(format("step %3zu  load %.4f  IOP %7.3f mmHg  newton %2d  |R| %.2e  "
-                      "%s u %+.5f %+.5f %+.5f mm  V %.4f mm3  wall %.2f s",
+                      "%s u %+.5f %+.5f %+.5f mm%s  wall %.2f s",
                       history.size(), done, done * iop, report.iterations,
                       report.residuals.back(), m.probe_names[0].c_str(), probes[0][0],
-                      probes[0][1], probes[0][2], volume, MPI_Wtime() - t_step));
+                      probes[0][1], probes[0][2], volume_text.c_str(),
+                      MPI_Wtime() - t_step));
   }
 
   const auto& last = history.back();
   if (eye)
     summary["apex_displacement_mm"] = last["apex_displacement_mm"][1];
   summary["iop_mmHg"] = iop;
-  summary["cavity_volume_mm3"] = last["cavity_volume_mm3"];
+  for (const auto& name : m.cavity_names)
+    summary[name + "_volume_mm3"] = last[name + "_volume_mm3"];
   finish("converged");
   folder.log(format("done: %zu load steps, %d Newton iterations, %d step cuts; assemble "
                     "%.2f s, linear solve %.2f s, output %.2f s, total %.2f s",

@@ -19,7 +19,8 @@ struct MaterialDefaults
 };
 
 void add_material(std::vector<Key>& keys, const std::string& part,
-                  const MaterialDefaults& d, bool fibres_from_geometry)
+                  const MaterialDefaults& d, bool fibres_from_geometry,
+                  const std::string& when)
 {
   const std::size_t first = keys.size();
   const std::string m = "material." + part + ".";
@@ -43,7 +44,7 @@ void add_material(std::vector<Key>& keys, const std::string& part,
                     "up to two constant fibre directions (hgo), normalised on "
                     "use; none makes the part isotropic"});
   for (std::size_t i = first; i < keys.size(); ++i)
-    keys[i].when = fibres_from_geometry ? "mesh.source=eye" : "mesh.source=file";
+    keys[i].when = when;
 }
 
 /// Mark the keys from `first` on as applying only when `when` holds.
@@ -74,6 +75,9 @@ std::vector<Key> declare()
                "eye: in-plane element size in the limbus"});
   k.push_back({"mesh.size_sclera", K::real, "1.5", "mm", 0.05, 10, {},
                "eye: in-plane element size in the sclera"});
+  k.push_back({"mesh.size_lens", K::real, "0.8", "mm", 0.05, 5, {},
+               "eye: in-plane element size in the lens and zonule"});
+  k.back().when = "mesh.source=eye,geometry.internal_structures=true";
   // geometry of the idealised eye
   k.push_back({"geometry.cornea_anterior_radius", K::real, "7.8", "mm", 5, 12, {},
                "radius of the anterior corneal sphere"});
@@ -91,12 +95,40 @@ std::vector<Key> declare()
                "scleral thickness"});
   k.push_back({"geometry.cut_y", K::real, "-4.0", "mm", -11, 8, {},
                "posterior cut plane y = cut_y (fixed); the cavity is closed there"});
+  k.push_back({"geometry.internal_structures", K::boolean, "false", "", -inf, inf, {},
+               "lens (cortex, nucleus), ciliary zonule and vitreous membrane; they split "
+               "the cavity into aqueous and vitreous"});
   only_when(k, eye_keys, "mesh.source=eye");
+  const std::size_t internal_keys = k.size();
+  k.push_back({"geometry.anterior_chamber_depth", K::real, "3.0", "mm", 1, 6, {},
+               "posterior corneal apex to the anterior lens pole"});
+  k.push_back({"geometry.lens_thickness", K::real, "4.0", "mm", 2, 6, {},
+               "lens thickness on the axis"});
+  k.push_back({"geometry.lens_diameter", K::real, "9.5", "mm", 6, 11, {},
+               "lens diameter at its equator"});
+  k.push_back({"geometry.lens_anterior_radius", K::real, "10.0", "mm", 5, 20, {},
+               "radius of the anterior lens surface"});
+  k.push_back({"geometry.lens_posterior_radius", K::real, "6.0", "mm", 4, 20, {},
+               "radius of the posterior lens surface"});
+  k.push_back({"geometry.lens_nucleus_fraction", K::real, "0.6", "", 0.1, 0.9, {},
+               "the nucleus spans this fraction of the lens radius (and the middle layers)"});
+  k.push_back({"geometry.ciliary_offset", K::real, "2.0", "mm", 0.2, 6, {},
+               "arc length on the inner sclera from the posterior cornea-sclera junction "
+               "back to the zonule's attachment ring"});
+  only_when(k, internal_keys, "mesh.source=eye,geometry.internal_structures=true");
   // materials
-  add_material(k, "cornea", {"hgo", "0.05", "0.010", "100", "5.0", "1.0", "0.3"}, true);
-  add_material(k, "limbus", {"hgo", "0.05", "0.010", "100", "5.0", "1.0", "0.3"}, true);
-  add_material(k, "sclera", {"neo_hookean", "0.8", "0", "1", "80.0", "1.0", "0.3"}, true);
-  add_material(k, "*", {"neo_hookean", "0.5", "0", "1", "50.0", "1.0", "0.3"}, false);
+  const std::string eye = "mesh.source=eye";
+  const std::string internal = "mesh.source=eye,geometry.internal_structures=true";
+  add_material(k, "cornea", {"hgo", "0.05", "0.010", "100", "5.0", "1.0", "0.3"}, true, eye);
+  add_material(k, "limbus", {"hgo", "0.05", "0.010", "100", "5.0", "1.0", "0.3"}, true, eye);
+  add_material(k, "sclera", {"neo_hookean", "0.8", "0", "1", "80.0", "1.0", "0.3"}, true, eye);
+  // Internal structures (design.md section 5; nu = 0.45 is our choice).
+  for (auto [part, E] : {std::pair{"lens_cortex", "0.35"}, {"lens_nucleus", "0.0003"},
+                         {"zonule", "0.35"}, {"vitreous_membrane", "0.35"}})
+    add_material(k, part, {"linear_elastic", "0.05", "0", "1", "5.0", E, "0.45"}, true,
+                 internal);
+  add_material(k, "*", {"neo_hookean", "0.5", "0", "1", "50.0", "1.0", "0.3"}, false,
+               "mesh.source=file");
   // discretisation
   k.push_back({"fem.degree", K::integer, "2", "", 1, 2, {},
                "polynomial degree of the displacement (Lagrange)"});

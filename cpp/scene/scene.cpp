@@ -282,17 +282,37 @@ toml::table parse_literal(const std::string& name, const std::string& literal,
   }
 }
 
-/// Is a key's `when` condition met by the user's table (or its default)?
+/// A scalar node as text: strings bare, booleans "true"/"false".
+std::string scalar_text(const toml::node& n)
+{
+  if (auto* str = n.as_string())
+    return str->get();
+  std::ostringstream s;
+  n.visit([&](auto&& v) { s << v; });
+  return s.str();
+}
+
+/// Are all of a key's `when` conditions ("a=x,b=y") met by the user's
+/// table (or the defaults)?
 bool applies(const Key& key, const toml::table& user)
 {
-  if (key.when.empty())
-    return true;
-  auto eq = key.when.find('=');
-  const std::string name = key.when.substr(0, eq), want = key.when.substr(eq + 1);
-  if (auto v = user.at_path(name).value<std::string>())
-    return *v == want;
-  const Key* k = find_key(name);
-  return toml::parse("v = " + k->default_value)["v"].value<std::string>() == want;
+  std::istringstream conditions(key.when);
+  std::string condition;
+  while (std::getline(conditions, condition, ','))
+  {
+    auto eq = condition.find('=');
+    const std::string name = condition.substr(0, eq), want = condition.substr(eq + 1);
+    const toml::node* n = user.at_path(name).node();
+    toml::table d;
+    if (!n)
+    {
+      d = toml::parse("v = " + find_key(name)->default_value);
+      n = d.get("v");
+    }
+    if (scalar_text(*n) != want)
+      return false;
+  }
+  return true;
 }
 
 /// Check the `when` condition of every user key.
@@ -308,8 +328,7 @@ void check_conditions(const toml::table& t, const std::string& prefix,
       check_conditions(*v.as_table(), name, user, file);
     else if (key && !applies(*key, user))
       throw Error(origin(v, file) + ": key '" + name + "' applies only when "
-                  + key->when + "; remove it or change "
-                  + key->when.substr(0, key->when.find('=')));
+                  + key->when + "; remove it or change the scene to that");
   }
 }
 

@@ -46,8 +46,8 @@ struct Key
   double max = std::numeric_limits<double>::infinity();
   std::vector<std::string> choices;
   std::string description;
-  /// "key=value": the key applies only when that choice is made (e.g.
-  /// "mesh.source=eye"); setting it otherwise is a contradiction.
+  /// "key=value[,key=value]": the key applies only when those choices are
+  /// made (e.g. "mesh.source=eye"); setting it otherwise is a contradiction.
   std::string when = "";
 };
 

@@ -27,13 +27,14 @@ struct Kernels
 {
   ufcx_form* R;
   ufcx_form* J;
-  ufcx_form* volume;
+  std::array<ufcx_form*, 2> volumes;
   ufcx_expression* von_mises;
   ufcx_function_space* (*space)(const char*);
 };
 
 #define NCT_SOLID_KERNELS(v)                                                     \
-  Kernels{form_solid_##v##_R, form_solid_##v##_J, form_solid_##v##_volume,       \
+  Kernels{form_solid_##v##_R, form_solid_##v##_J,                                \
+          {form_solid_##v##_volume_1, form_solid_##v##_volume_2},                 \
           expression_solid_##v##_von_mises, functionspace_form_solid_##v##_R}
 
 Kernels kernels(int degree, bool reduced)
@@ -46,7 +47,8 @@ Kernels kernels(int degree, bool reduced)
 }
 
 /// Facet tags of forms/solid.py.
-constexpr std::int32_t cavity_wall_tag = 1, surface_load_tag = 2;
+constexpr std::array<std::int32_t, 2> cavity_wall_tags = {1, 3};
+constexpr std::int32_t surface_load_tag = 2;
 
 /// The coordinate axis normal to every facet of a group (all ranks agree);
 /// throws if the group is not a plane x_i = const.
@@ -110,8 +112,11 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
   std::map<std::int32_t, std::int32_t> law_of_group, load_of_group;
   for (auto& [group, part] : parts)
     law_of_group[group] = static_cast<std::int32_t>(materials.at(part).law);
-  for (auto g : boundaries.cavity_wall)
-    load_of_group[g] = cavity_wall_tag;
+  if (boundaries.cavities.size() > cavity_wall_tags.size())
+    throw std::invalid_argument("at most two cavities");
+  for (std::size_t c = 0; c < boundaries.cavities.size(); ++c)
+    for (auto g : boundaries.cavities[c])
+      load_of_group[g] = cavity_wall_tags[c];
   for (auto g : boundaries.surface_load)
     load_of_group[g] = surface_load_tag;
   _law_tags = std::make_shared<mesh::MeshTags<std::int32_t>>(
@@ -119,7 +124,8 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
   _load_tags = std::make_shared<mesh::MeshTags<std::int32_t>>(
       meshio::retag(*m.facets, load_of_group));
 
-  _p_cavity = std::make_shared<fem::Constant<double>>(0.0);
+  for (std::size_t c = 0; c < cavity_wall_tags.size(); ++c)
+    _p_cavities.push_back(std::make_shared<fem::Constant<double>>(0.0));
   _p_surface = std::make_shared<fem::Constant<double>>(0.0);
   _x0 = std::make_shared<fem::Constant<double>>(
       std::vector<double>(volume_origin.begin(), volume_origin.end()));
@@ -129,7 +135,8 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
   for (auto& [name, f] : fields)
     coeffs[name] = f;
   const std::map<std::string, std::shared_ptr<const fem::Constant<double>>> loads
-      = {{"p_cavity", _p_cavity}, {"p_surface", _p_surface}};
+      = {{"p_cavity_1", _p_cavities[0]}, {"p_cavity_2", _p_cavities[1]},
+         {"p_surface", _p_surface}};
   const std::map<fem::IntegralType, const mesh::MeshTags<int>*> subdomains
       = {{fem::IntegralType::cell, _law_tags.get()},
          {fem::IntegralType::exterior_facet, _load_tags.get()}};
@@ -144,8 +151,9 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
       fem::create_form<double>(*k.R, {V}, pick(*k.R), loads, subdomains));
   _J = std::make_shared<fem::Form<double>>(
       fem::create_form<double>(*k.J, {V, V}, pick(*k.J), loads, subdomains));
-  _volume = std::make_shared<fem::Form<double>>(fem::create_form<double>(
-      *k.volume, {}, pick(*k.volume), {{"x0", _x0}}, subdomains, m.mesh));
+  for (std::size_t c = 0; c < boundaries.cavities.size(); ++c)
+    _volumes.push_back(std::make_shared<fem::Form<double>>(fem::create_form<double>(
+        *k.volumes[c], {}, pick(*k.volumes[c]), {{"x0", _x0}}, subdomains, m.mesh)));
   _von_mises = std::make_shared<fem::Expression<double>>(
       fem::create_expression<double>(*k.von_mises, coeffs, {}, m.mesh));
 
@@ -179,9 +187,10 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
   _symmetry_factor = 1 << axes.size();
 }
 
-void Problem::set_pressures(double cavity, double surface)
+void Problem::set_pressures(const std::vector<double>& cavities, double surface)
 {
-  _p_cavity->value = {cavity};
+  for (std::size_t c = 0; c < cavities.size(); ++c)
+    _p_cavities.at(c)->value = {cavities[c]};
   _p_surface->value = {surface};
 }
 
@@ -207,11 +216,16 @@ void Problem::jacobian(Mat A)
 
 Mat Problem::create_matrix() const { return fem::petsc::create_matrix(*_J, "aij"); }
 
-double Problem::cavity_volume() const
+std::vector<double> Problem::cavity_volumes() const
 {
-  double v = fem::assemble_scalar(*_volume);
-  MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_DOUBLE, MPI_SUM, u->function_space()->mesh()->comm());
-  return _symmetry_factor * v;
+  std::vector<double> v;
+  for (auto& form : _volumes)
+    v.push_back(fem::assemble_scalar(*form));
+  MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM,
+                u->function_space()->mesh()->comm());
+  for (double& x : v)
+    x *= _symmetry_factor;
+  return v;
 }
 
 std::vector<std::array<double, 3>>

@@ -24,7 +24,8 @@ struct Boundaries
 {
   std::vector<std::int32_t> fixed;        ///< u = 0
   std::vector<std::int32_t> symmetry;     ///< u . n = 0 on axis-aligned planes
-  std::vector<std::int32_t> cavity_wall;  ///< the cavity pressure acts here
+  /// Walls of up to two cavities (each a list of groups): their pressures act here
+  std::vector<std::vector<std::int32_t>> cavities;
   std::vector<std::int32_t> surface_load; ///< the surface pressure acts here
 };
 
@@ -42,8 +43,8 @@ public:
           const FibreRule& fibres, const Boundaries& boundaries,
           std::array<double, 3> volume_origin);
 
-  /// Pressures [MPa] of the cavity and of the loaded surface.
-  void set_pressures(double cavity, double surface);
+  /// Pressures [MPa] of the cavities (one per cavity) and of the loaded surface.
+  void set_pressures(const std::vector<double>& cavities, double surface);
 
   /// b = R(u), with b = u - g on Dirichlet dofs.
   void residual(dolfinx::la::Vector<double>& b);
@@ -52,8 +53,8 @@ public:
   /// Zero Jacobian with the sparsity of dR/du.
   Mat create_matrix() const;
 
-  /// Whole-model cavity volume (the meshed part times the symmetry factor).
-  double cavity_volume() const;
+  /// Whole-model cavity volumes (the meshed part times the symmetry factor).
+  std::vector<double> cavity_volumes() const;
   /// Displacement at reference points (every rank gets every value).
   std::vector<std::array<double, 3>>
   displacement_at(const std::vector<std::array<double, 3>>& points) const;
@@ -69,9 +70,11 @@ public:
   int symmetry_factor() const { return _symmetry_factor; }
 
 private:
-  std::shared_ptr<dolfinx::fem::Form<double>> _R, _J, _volume;
+  std::shared_ptr<dolfinx::fem::Form<double>> _R, _J;
+  std::vector<std::shared_ptr<dolfinx::fem::Form<double>>> _volumes; ///< one per cavity
   std::shared_ptr<dolfinx::fem::Expression<double>> _von_mises;
-  std::shared_ptr<dolfinx::fem::Constant<double>> _p_cavity, _p_surface, _x0;
+  std::vector<std::shared_ptr<dolfinx::fem::Constant<double>>> _p_cavities;
+  std::shared_ptr<dolfinx::fem::Constant<double>> _p_surface, _x0;
   std::vector<std::shared_ptr<const dolfinx::fem::DirichletBC<double>>> _bcs;
   std::shared_ptr<dolfinx::mesh::MeshTags<std::int32_t>> _law_tags, _load_tags;
   int _symmetry_factor = 1;
