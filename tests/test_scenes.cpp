@@ -194,7 +194,7 @@ TEST(Eye, CavityVolumeMatchesGeometry)
 // cavity of the eye without internal structures.
 TEST(Eye, InternalStructuresMakeTwoCavities)
 {
-  // A moderate IOP keeps this case short; scenes/eye-internal.toml goes to 15.
+  // A moderate IOP keeps this case short (the shipped scene goes to 10).
   auto summary = run_scene("scenes/eye-internal.toml", "eye_internal",
                            {"loading.iop=6.0", "loading.steps=2", "output.fields=false"});
   EXPECT_EQ(summary["status"], "converged");
