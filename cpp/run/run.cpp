@@ -69,28 +69,34 @@ struct GmshSession
   ~GmshSession() { gmsh::finalize(); }
 };
 
+/// The eye's shape from [geometry]: each key is the field of the same name.
 eye::Geometry eye_geometry(const scene::Scene& s)
 {
-  eye::Geometry g;
-  g.cornea_anterior_radius = s.real("geometry.cornea_anterior_radius");
-  g.cornea_posterior_radius = s.real("geometry.cornea_posterior_radius");
-  g.cornea_central_thickness = s.real("geometry.cornea_central_thickness");
-  g.limbus_diameter = s.real("geometry.limbus_diameter");
-  g.limbus_width = s.real("geometry.limbus_width");
-  g.sclera_outer_radius = s.real("geometry.sclera_outer_radius");
-  g.sclera_thickness = s.real("geometry.sclera_thickness");
-  g.cut_y = s.real("geometry.cut_y");
+  using G = eye::Geometry;
+  static const std::vector<std::pair<const char*, double G::*>> shell
+      = {{"cornea_anterior_radius", &G::cornea_anterior_radius},
+         {"cornea_posterior_radius", &G::cornea_posterior_radius},
+         {"cornea_central_thickness", &G::cornea_central_thickness},
+         {"limbus_diameter", &G::limbus_diameter},
+         {"limbus_width", &G::limbus_width},
+         {"sclera_outer_radius", &G::sclera_outer_radius},
+         {"sclera_thickness", &G::sclera_thickness},
+         {"cut_y", &G::cut_y}};
+  static const std::vector<std::pair<const char*, double G::*>> internal
+      = {{"anterior_chamber_depth", &G::anterior_chamber_depth},
+         {"lens_thickness", &G::lens_thickness},
+         {"lens_diameter", &G::lens_diameter},
+         {"lens_anterior_radius", &G::lens_anterior_radius},
+         {"lens_posterior_radius", &G::lens_posterior_radius},
+         {"lens_nucleus_fraction", &G::lens_nucleus_fraction},
+         {"ciliary_offset", &G::ciliary_offset}};
+  G g;
+  for (auto [key, field] : shell)
+    g.*field = s.real(std::string("geometry.") + key);
   g.internal_structures = s.boolean("geometry.internal_structures");
   if (g.internal_structures)
-  {
-    g.anterior_chamber_depth = s.real("geometry.anterior_chamber_depth");
-    g.lens_thickness = s.real("geometry.lens_thickness");
-    g.lens_diameter = s.real("geometry.lens_diameter");
-    g.lens_anterior_radius = s.real("geometry.lens_anterior_radius");
-    g.lens_posterior_radius = s.real("geometry.lens_posterior_radius");
-    g.lens_nucleus_fraction = s.real("geometry.lens_nucleus_fraction");
-    g.ciliary_offset = s.real("geometry.ciliary_offset");
-  }
+    for (auto [key, field] : internal)
+      g.*field = s.real(std::string("geometry.") + key);
   return g;
 }
 
