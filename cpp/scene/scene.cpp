@@ -327,8 +327,10 @@ void check_conditions(const toml::table& t, const std::string& prefix,
     if (v.is_table() && !(key && key->kind == Kind::options))
       check_conditions(*v.as_table(), name, user, file);
     else if (key && !applies(*key, user))
-      throw Error(origin(v, file) + ": key '" + name + "' applies only when "
-                  + key->when + "; remove it or change the scene to that");
+      throw Error(origin(v, file) + ": key '" + name + "'"
+                  + (key->name == name ? "" : " (as '" + key->name + "')")
+                  + " applies only when " + key->when
+                  + "; remove it or change the scene to that");
   }
 }
 
