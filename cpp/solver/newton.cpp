@@ -143,16 +143,20 @@ NewtonReport Newton::solve(dolfinx::la::Vector<double>& x,
     {
       const double g0 = dot(dx, b_start);
       double g = dot(dx, b);
+      bool at_alpha = true; // do x and b hold the state at alpha?
       for (int k = 0; k < 5 && std::abs(g) > 0.5 * std::abs(g0) && g * g0 < 0; ++k)
       {
         // Secant between (0, g0) and (alpha, g), kept within [alpha/10, alpha].
         const double next = std::clamp(alpha * g0 / (g0 - g), 0.1 * alpha, alpha);
         const double r_try = take(next);
         if (!std::isfinite(r_try))
+        {
+          at_alpha = false;
           break;
+        }
         alpha = next, r_new = r_try, g = dot(dx, b);
       }
-      if (!std::isfinite(take(alpha)))
+      if (!at_alpha)
         r_new = take(alpha);
     }
     ++report.iterations;
