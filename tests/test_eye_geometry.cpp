@@ -378,16 +378,23 @@ class EyeMesh : public GmshSuite, public ::testing::WithParamInterface<int>
 {
 };
 
+/// The same refinement with every in-plane size halved.
+Refinement halved(Refinement r)
+{
+  r.size_cornea /= 2;
+  r.size_limbus /= 2;
+  r.size_sclera /= 2;
+  r.size_lens /= 2;
+  return r;
+}
+
 TEST_P(EyeMesh, ChecksOutAndConverges)
 {
   const Geometry g;
   Refinement r;
   r.layers = GetParam();
   const MeshReport coarse = check_mesh(g, r);
-  r.size_cornea /= 2;
-  r.size_limbus /= 2;
-  r.size_sclera /= 2;
-  const MeshReport fine = check_mesh(g, r);
+  const MeshReport fine = check_mesh(g, halved(r));
   for (const auto& [label, m] : {std::pair{"sizes", coarse}, std::pair{"sizes / 2", fine}})
     std::cout << "[ mesh     ] layers " << GetParam() << ", " << label << ": " << m.nodes
               << " nodes, " << m.tets << " tets, solid volume " << m.solid << " error "
@@ -647,11 +654,7 @@ TEST_P(EyeInternalMesh, ConformsAndConverges)
   Refinement r;
   r.layers = GetParam();
   const InternalReport coarse = check_internal_mesh(g, r);
-  r.size_cornea /= 2;
-  r.size_limbus /= 2;
-  r.size_sclera /= 2;
-  r.size_lens /= 2;
-  const InternalReport fine = check_internal_mesh(g, r);
+  const InternalReport fine = check_internal_mesh(g, halved(r));
   for (const auto& [label, m] : {std::pair{"sizes", coarse}, std::pair{"sizes / 2", fine}})
     std::cout << "[ internal ] layers " << GetParam() << ", " << label << ": " << m.nodes
               << " nodes, " << m.tets << " tets, " << m.ring_nodes << " shared ring nodes, aqueous error "

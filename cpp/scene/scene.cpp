@@ -267,7 +267,7 @@ void insert_at(toml::table& t, const std::string& name, toml::node&& value,
   insert_at(*sub->as_table(), name.substr(dot + 1), std::move(value), where);
 }
 
-toml::table parse_literal(const std::string& name, const std::string& literal,
+toml::table parse_literal(const std::string& literal,
                           const std::string& where)
 {
   try
@@ -276,7 +276,6 @@ toml::table parse_literal(const std::string& name, const std::string& literal,
   }
   catch (const toml::parse_error&)
   {
-    (void)name;
     // Bare words are strings: --set mesh.source=file
     return toml::parse("v = \"" + literal + "\"", where);
   }
@@ -362,7 +361,7 @@ Scene Scene::load(const std::filesystem::path& file,
     if (eq == std::string::npos || eq == 0)
       throw Error(where + ": expected section.key=value");
     std::string name = o.substr(0, eq);
-    toml::table parsed = parse_literal(name, o.substr(eq + 1), where);
+    toml::table parsed = parse_literal(o.substr(eq + 1), where);
     insert_at(user, name, std::move(*parsed.get("v")), where);
   }
 

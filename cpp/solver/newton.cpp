@@ -12,16 +12,6 @@ namespace nct::solver
 namespace
 {
 
-double norm(const dolfinx::la::Vector<double>& b)
-{
-  const std::int32_t n = b.map()->size_local() * b.bs();
-  double s = 0;
-  for (std::int32_t i = 0; i < n; ++i)
-    s += b.array()[i] * b.array()[i];
-  MPI_Allreduce(MPI_IN_PLACE, &s, 1, MPI_DOUBLE, MPI_SUM, b.map()->comm());
-  return std::sqrt(s);
-}
-
 /// Global dot product of two vectors (owned entries).
 double dot(const dolfinx::la::Vector<double>& a, const dolfinx::la::Vector<double>& b)
 {
@@ -32,6 +22,8 @@ double dot(const dolfinx::la::Vector<double>& a, const dolfinx::la::Vector<doubl
   MPI_Allreduce(MPI_IN_PLACE, &s, 1, MPI_DOUBLE, MPI_SUM, a.map()->comm());
   return s;
 }
+
+double norm(const dolfinx::la::Vector<double>& b) { return std::sqrt(dot(b, b)); }
 
 } // namespace
 
