@@ -4,7 +4,12 @@ Find u such that, for every admissible v,
 
     sum_laws integral_{Omega_law} P_law(F) : grad v dX            (internal work)
   + sum_c integral_{wall of cavity c} p_c J F^-T N . v dA        (cavity pressures)
-  + integral_{loaded surface} p_surface J F^-T N . v dA = 0      (surface pressure)
+  + integral_{loaded surface} p_surface f J F^-T N . v dA = 0    (surface pressure)
+
+with f(X) the shape of the surface pressure (1 for a uniform one). A
+closed cavity's pressure p_c is a Lagrange multiplier of V_c(u) = target;
+its border of the Newton system (cpp/cavity) is dR/dp_c = `cavity_load_c`
+(the residual's cavity term at unit pressure) and dV_c/du = `dvolume_c`.
 
 with P = dPsi/dF. Cells carry the tag of their material law, facets the
 tag of their load. Material parameters and fibres are per-cell (DG0)
@@ -31,6 +36,7 @@ CAVITY_1_WALL, SURFACE_LOAD, CAVITY_2_WALL = 1, 2, 3  # facet tags: load
 element = VectorElement("Lagrange", tetrahedron, degree)  # noqa: F821 (set by the wrapper)
 cell_scalar = FiniteElement("DG", tetrahedron, 0)
 cell_vector = VectorElement("DG", tetrahedron, 0)
+nodal_scalar = FiniteElement("Lagrange", tetrahedron, 1)
 
 v = TestFunction(element)
 du = TrialFunction(element)
@@ -50,6 +56,7 @@ fibre_2 = Coefficient(cell_vector)  # second fibre family (unit or zero)
 p_cavity_1 = Constant(tetrahedron)
 p_cavity_2 = Constant(tetrahedron)
 p_surface = Constant(tetrahedron)
+surface_profile = Coefficient(nodal_scalar)  # shape f of the surface pressure [-]
 
 # Fixed quadrature degrees: UFL's estimate explodes on exp() (toolchain.md).
 dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
@@ -67,13 +74,19 @@ R = (inner(diff(psi_hgo, F), grad(v)) * dx(HGO)
      + inner(diff(psi_linear_elastic, F), grad(v)) * dx(LINEAR_ELASTIC)
      + cavity.follower_pressure(p_cavity_1, F, N, v) * ds(CAVITY_1_WALL)
      + cavity.follower_pressure(p_cavity_2, F, N, v) * ds(CAVITY_2_WALL)
-     + cavity.follower_pressure(p_surface, F, N, v) * ds(SURFACE_LOAD))
+     + cavity.follower_pressure(p_surface * surface_profile, F, N, v) * ds(SURFACE_LOAD))
 J = derivative(R, u, du)
 
 # Enclosed cavity volumes (quarter model, no symmetry factor) about x0.
 x0 = Constant(tetrahedron, shape=(3,))
 volume_1 = cavity.volume(u, F, N, x0) * ds(CAVITY_1_WALL)
 volume_2 = cavity.volume(u, F, N, x0) * ds(CAVITY_2_WALL)
+
+# The border of the closed-cavity system: dR/dp_c and dV_c/du.
+cavity_load_1 = cavity.follower_pressure(1.0, F, N, v) * ds(CAVITY_1_WALL)
+cavity_load_2 = cavity.follower_pressure(1.0, F, N, v) * ds(CAVITY_2_WALL)
+dvolume_1 = derivative(volume_1, u, v)
+dvolume_2 = derivative(volume_2, u, v)
 
 # Von Mises equivalent of the Cauchy stress, per cell: the law indicators
 # pick the stress of the cell's own law (1 on its cells, 0 elsewhere).
@@ -86,5 +99,5 @@ sigma = kinematics.cauchy_stress(P, F)
 s = sigma - tr(sigma) / 3.0 * Identity(3)
 von_mises = sqrt(1.5 * inner(s, s))
 
-forms = [R, J, volume_1, volume_2]
+forms = [R, J, volume_1, volume_2, cavity_load_1, cavity_load_2, dvolume_1, dvolume_2]
 expressions = [(von_mises, [[0.25, 0.25, 0.25]])]

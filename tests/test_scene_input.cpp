@@ -69,7 +69,7 @@ TEST(Scene, WildcardMaterialsGetDefaults)
 TEST(Scene, ErrorsNameTheKeyAndWhatIsAccepted)
 {
   EXPECT_NE(error_of("[fem]\ndegree = 2.5\n").find("key 'fem.degree'"), std::string::npos);
-  EXPECT_NE(error_of("[loading]\nsteps = 0\n").find("[1, 10000]"), std::string::npos);
+  EXPECT_NE(error_of("[inflate]\nsteps = 0\n").find("[1, 10000]"), std::string::npos);
   EXPECT_NE(error_of("[material.cornea]\nk1 = -1.0\n").find("material.cornea.k1"),
             std::string::npos);
   EXPECT_NE(error_of("[output]\nprobes = [[1.0, 2.0]]\n").find("[x, y, z]"),
@@ -78,7 +78,7 @@ TEST(Scene, ErrorsNameTheKeyAndWhatIsAccepted)
             std::string::npos);
   EXPECT_NE(error_of("[material.lens]\nc10 = 1.0\n").find("mesh.source=file"),
             std::string::npos);
-  EXPECT_NE(error_of("", {"loading.iop=abc"}).find("--set loading.iop=abc"),
+  EXPECT_NE(error_of("", {"inflate.iop=abc"}).find("--set inflate.iop=abc"),
             std::string::npos);
   EXPECT_NE(error_of("[solver.petsc]\nksp_type = [1]\n").find("ksp_type"), std::string::npos);
 }

@@ -8,37 +8,12 @@
 #include <gtest/gtest.h>
 
 #include "eye/geometry.h"
-#include "run/run.h"
-#include "scene/scene.h"
+#include "helpers.h"
 
 namespace
 {
 
-constexpr double mmHg = 1.333224e-4; // MPa
-
-std::filesystem::path out_dir(const std::string& name)
-{
-  const char* root = std::getenv("NCT_TEST_OUT");
-  return std::filesystem::path(root ? root : "test-runs") / name;
-}
-
-nlohmann::json run_scene(const std::string& scene, const std::string& name,
-                         const std::vector<std::string>& sets = {})
-{
-  auto s = nct::scene::Scene::load(std::filesystem::path(NCT_SOURCE_DIR) / scene, sets);
-  return nct::run(MPI_COMM_WORLD, s, {out_dir(name), {}});
-}
-
-/// Root of f in [lo, hi] by bisection (f(lo) and f(hi) of opposite signs).
-double bisect(const std::function<double(double)>& f, double lo, double hi)
-{
-  for (int i = 0; i < 200; ++i)
-  {
-    double mid = 0.5 * (lo + hi);
-    (f(lo) * f(mid) <= 0 ? hi : lo) = mid;
-  }
-  return 0.5 * (lo + hi);
-}
+using namespace nct::test;
 
 /// Cauchy stresses (axial, lateral) of the HGO law of forms/hgo.py under
 /// F = diag(l1, l2, l2), fibres along the axis:
@@ -75,14 +50,6 @@ std::array<double, 2> hgo_uniaxial_stretches(double T, double c10, double k1, do
   return {l1, lateral(l1)};
 }
 
-/// Incompressible neo-Hookean thick sphere: pressure at inner stretch la,
-/// p = mu (1/(2 lb^4) + 2/lb - 1/(2 la^4) - 2/la), lb from volume conservation.
-double sphere_pressure(double la, double A, double B, double mu)
-{
-  const double a = la * A, b = std::cbrt(a * a * a + B * B * B - A * A * A), lb = b / B;
-  return mu * (0.5 / std::pow(lb, 4) + 2 / lb - 0.5 / std::pow(la, 4) - 2 / la);
-}
-
 } // namespace
 
 // Tension with the fibres along the load: the homogeneous FE solution is
@@ -107,7 +74,7 @@ TEST(Hgo, UniaxialTensionAlongFibres)
 TEST(Hgo, FibresCarryNoCompression)
 {
   auto summary = run_scene("tests/scenes/hgo_uniaxial.toml", "hgo_compression",
-                           {"loading.surface_pressure=150.0"});
+                           {"press.pressure=150.0"});
   const auto u = summary["steps"].back()["probe_0_displacement_mm"];
   auto [l1, l2] = hgo_uniaxial_stretches(-150 * mmHg, 0.05, 0.0, 100, 5.0);
   EXPECT_LT(l1, 1.0);
@@ -180,7 +147,7 @@ TEST(NeoHookean, ThickSphereInflation)
 TEST(Eye, CavityVolumeMatchesGeometry)
 {
   auto summary = run_scene("scenes/default.toml", "eye_volume",
-                           {"loading.iop=0.0", "loading.steps=1", "output.fields=false"});
+                           {"inflate.iop=0.0", "inflate.steps=1", "output.fields=false"});
   const double exact = nct::eye::derive(nct::eye::Geometry{}).cavity_volume;
   const double meshed = summary["cavity_volume_reference_mm3"].get<double>();
   std::printf("eye cavity: meshed %.4f mm3, analytic %.4f mm3 (%.3f%%)\n", meshed, exact,
@@ -196,7 +163,7 @@ TEST(Eye, InternalStructuresMakeTwoCavities)
 {
   // A moderate IOP keeps this case short (the shipped scene goes to 10).
   auto summary = run_scene("scenes/eye-internal.toml", "eye_internal",
-                           {"loading.iop=6.0", "loading.steps=2", "output.fields=false"});
+                           {"inflate.iop=6.0", "inflate.steps=2", "output.fields=false"});
   EXPECT_EQ(summary["status"], "converged");
   nct::eye::Geometry g;
   g.internal_structures = true;

@@ -10,6 +10,7 @@
 #include <mpi.h>
 #include <nlohmann/json.hpp>
 
+#include "run/model.h"
 #include "scene/scene.h"
 
 namespace nct
@@ -42,13 +43,10 @@ struct RunOptions
   std::vector<std::pair<std::string, std::string>> petsc; ///< overrides the scene's
 };
 
-/// The checks of a scene that need more than its keys: the eye's geometry,
-/// an external mesh's groups against the scene's materials and boundaries.
-/// Nothing is meshed; throws scene::Error.
-void check(MPI_Comm comm, const scene::Scene& scene);
-
-/// Run a scene (static inflation by a pressure ramp) into a run folder and
-/// return its summary (also written to out/summary.json).
+/// Run a scene into a run folder and return its summary (also written to
+/// out/summary.json). Phases: the zero-pressure geometry (if enabled),
+/// inflation by a pressure ramp, closing the cavities (cavity.model =
+/// "closed"), a surface pressure ramp (press.pressure != 0).
 nlohmann::json run(MPI_Comm comm, const scene::Scene& scene, const RunOptions& options);
 
 } // namespace nct

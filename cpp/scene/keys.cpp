@@ -146,21 +146,50 @@ std::vector<Key> declare()
   k.push_back({"boundary.cavity_wall", K::strings, "[]", "", -inf, inf, {},
                "file: facet groups bounding the fluid cavity (IOP acts here)"});
   k.push_back({"boundary.surface_load", K::strings, "[]", "", -inf, inf, {},
-               "file: facet groups loaded by loading.surface_pressure"});
+               "file: facet groups loaded by press.pressure"});
   k.push_back({"cavity.origin", K::points, "[[0.0, 0.0, 0.0]]", "mm", -inf, inf, {},
                "file: point on every symmetry plane and on any flat closing cap; "
                "the cavity volume is taken about it"});
   only_when(k, file_keys, "mesh.source=file");
-  // humors and loads
-  k.push_back({"humors.model", K::choice, "\"constant_pressure\"", "", -inf, inf,
-               {"constant_pressure"},
-               "cavity fluid: a prescribed pressure (the IOP) on the cavity wall"});
-  k.push_back({"loading.iop", K::real, "15.0", "mmHg", 0, 200, {},
-               "intraocular pressure reached at the end of the ramp"});
-  k.push_back({"loading.surface_pressure", K::real, "0.0", "mmHg", -1e6, 1e6, {},
-               "follower pressure on boundary.surface_load (negative pulls)"});
-  k.push_back({"loading.steps", K::integer, "5", "", 1, 10000, {},
+  // the fluid cavities (humors)
+  k.push_back({"cavity.model", K::choice, "\"closed\"", "", -inf, inf,
+               {"closed", "constant_pressure"},
+               "after inflation: closed = each cavity keeps its volume and its pressure "
+               "is an unknown (incompressible humor); constant_pressure = the pressure "
+               "stays at the IOP (open system)"});
+  // phase: zero-pressure geometry
+  k.push_back({"zero_pressure.enabled", K::boolean, "false", "", -inf, inf, {},
+               "take the mesh as the eye imaged at inflate.iop and first find its "
+               "stress-free geometry (backward-displacement fixed point)"});
+  const std::size_t zero_pressure_keys = k.size();
+  k.push_back({"zero_pressure.tolerance", K::real, "1e-4", "mm", 1e-10, 1, {},
+               "stop when no node of the pressurised stress-free geometry is farther "
+               "than this from the imaged one"});
+  k.push_back({"zero_pressure.max_iterations", K::integer, "30", "", 1, 500, {},
+               "fixed-point iterations before the run stops"});
+  k.push_back({"zero_pressure.acceleration", K::choice, "\"aitken\"", "", -inf, inf,
+               {"aitken", "none"},
+               "aitken = dynamic relaxation of each update (Irons-Tuck); none = the "
+               "plain fixed point X -= x(X) - x_imaged"});
+  only_when(k, zero_pressure_keys, "zero_pressure.enabled=true");
+  // phase: inflation
+  k.push_back({"inflate.iop", K::real, "15.0", "mmHg", 0, 200, {},
+               "intraocular pressure reached at the end of the inflation ramp"});
+  k.push_back({"inflate.steps", K::integer, "5", "", 1, 10000, {},
+               "load steps of the linear pressure ramp from zero"});
+  // phase: press (a static surface pressure, after inflation and closing)
+  k.push_back({"press.pressure", K::real, "0.0", "mmHg", -1e6, 1e6, {},
+               "peak follower pressure on the loaded surface (the eye: the anterior "
+               "cornea; a file mesh: boundary.surface_load); negative pulls; 0 skips "
+               "the phase"});
+  k.push_back({"press.steps", K::integer, "5", "", 1, 10000, {},
                "load steps of the linear ramp from zero"});
+  k.push_back({"press.profile", K::choice, "\"uniform\"", "", -inf, inf,
+               {"uniform", "gaussian"},
+               "shape across the surface: uniform, or gaussian in the distance r from "
+               "the y axis, exp(-r^2 / (2 width^2))"});
+  k.push_back({"press.width", K::real, "1.5", "mm", 1e-3, 1e3, {},
+               "standard deviation of the gaussian profile", "press.profile=gaussian"});
   // nonlinear and linear solver
   k.push_back({"solver.max_iterations", K::integer, "25", "", 1, 500, {},
                "Newton iterations per load step before the step is cut"});
@@ -207,12 +236,7 @@ void check_consistency(const Scene& s)
   auto fail = [&](const std::string& what)
   { throw Error(file + ": " + what); };
 
-  if (eye)
-  {
-    if (s.real("loading.surface_pressure") != 0.0)
-      fail("key 'loading.surface_pressure': the eye has no surface-load group");
-  }
-  else
+  if (!eye)
   {
     if (s.string("mesh.file").empty())
       fail("key 'mesh.file': mesh.source = \"file\" needs a mesh file");
@@ -239,12 +263,10 @@ void check_consistency(const Scene& s)
           fail("group '" + g + "' is in both boundary." + it->second
                + " and boundary." + b + ": a facet group has one condition");
       }
-    if (s.real("loading.iop") > 0 && s.strings("boundary.cavity_wall").empty())
-      fail("key 'loading.iop' > 0 but boundary.cavity_wall names no group");
-    if (s.real("loading.surface_pressure") != 0
-        && s.strings("boundary.surface_load").empty())
-      fail("key 'loading.surface_pressure' != 0 but boundary.surface_load names "
-           "no group");
+    if (s.real("inflate.iop") > 0 && s.strings("boundary.cavity_wall").empty())
+      fail("key 'inflate.iop' > 0 but boundary.cavity_wall names no group");
+    if (s.real("press.pressure") != 0 && s.strings("boundary.surface_load").empty())
+      fail("key 'press.pressure' != 0 but boundary.surface_load names no group");
     for (const std::string& part : s.tables("material"))
       if (s.points("material." + part + ".fibre_directions").size() > 2)
         fail("key 'material." + part

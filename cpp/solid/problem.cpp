@@ -27,7 +27,7 @@ struct Kernels
 {
   ufcx_form* R;
   ufcx_form* J;
-  std::array<ufcx_form*, 2> volumes;
+  std::array<ufcx_form*, 2> volumes, cavity_loads, dvolumes;
   ufcx_expression* von_mises;
   ufcx_function_space* (*space)(const char*);
 };
@@ -35,6 +35,8 @@ struct Kernels
 #define NCT_SOLID_KERNELS(v)                                                     \
   Kernels{form_solid_##v##_R, form_solid_##v##_J,                                \
           {form_solid_##v##_volume_1, form_solid_##v##_volume_2},                 \
+          {form_solid_##v##_cavity_load_1, form_solid_##v##_cavity_load_2},       \
+          {form_solid_##v##_dvolume_1, form_solid_##v##_dvolume_2},               \
           expression_solid_##v##_von_mises, functionspace_form_solid_##v##_R}
 
 Kernels kernels(int degree, bool reduced)
@@ -94,6 +96,7 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
                  const std::map<std::string, Material>& materials,
                  const FibreRule& fibres, const Boundaries& boundaries,
                  std::array<double, 3> volume_origin)
+    : _cells(m.cells), _parts(parts), _materials(materials), _fibres(fibres)
 {
   const Kernels k = kernels(degree, reduced_quadrature);
   auto V = std::make_shared<fem::FunctionSpace>(
@@ -106,6 +109,11 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
   u->name = "displacement";
   von_mises = std::make_shared<fem::Function<double>>(Q0);
   von_mises->name = "von_mises_stress";
+  surface_profile = std::make_shared<fem::Function<double>>(
+      std::make_shared<fem::FunctionSpace>(
+          fem::create_functionspace(k.space, "surface_profile", m.mesh)));
+  surface_profile->name = "surface_profile";
+  surface_profile->x()->set(1.0);
   fields = cell_fields(*m.cells, parts, materials, fibres, Q0, Q0v);
 
   // Integration tags: cells by law, facets by load.
@@ -132,6 +140,7 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
 
   std::map<std::string, std::shared_ptr<const fem::Function<double>>> coeffs;
   coeffs["u"] = u;
+  coeffs["surface_profile"] = surface_profile;
   for (auto& [name, f] : fields)
     coeffs[name] = f;
   const std::map<std::string, std::shared_ptr<const fem::Constant<double>>> loads
@@ -152,8 +161,14 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
   _J = std::make_shared<fem::Form<double>>(
       fem::create_form<double>(*k.J, {V, V}, pick(*k.J), loads, subdomains));
   for (std::size_t c = 0; c < boundaries.cavities.size(); ++c)
+  {
     _volumes.push_back(std::make_shared<fem::Form<double>>(fem::create_form<double>(
         *k.volumes[c], {}, pick(*k.volumes[c]), {{"x0", _x0}}, subdomains, m.mesh)));
+    _cavity_loads.push_back(std::make_shared<fem::Form<double>>(fem::create_form<double>(
+        *k.cavity_loads[c], {V}, pick(*k.cavity_loads[c]), {}, subdomains)));
+    _dvolumes.push_back(std::make_shared<fem::Form<double>>(fem::create_form<double>(
+        *k.dvolumes[c], {V}, pick(*k.dvolumes[c]), {{"x0", _x0}}, subdomains)));
+  }
   _von_mises = std::make_shared<fem::Expression<double>>(
       fem::create_expression<double>(*k.von_mises, coeffs, {}, m.mesh));
 
@@ -187,11 +202,20 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
   _symmetry_factor = 1 << axes.size();
 }
 
-void Problem::set_pressures(const std::vector<double>& cavities, double surface)
+void Problem::set_cavity_pressures(const std::vector<double>& pressures)
 {
-  for (std::size_t c = 0; c < cavities.size(); ++c)
-    _p_cavities.at(c)->value = {cavities[c]};
-  _p_surface->value = {surface};
+  for (std::size_t c = 0; c < pressures.size(); ++c)
+    _p_cavities.at(c)->value = {pressures[c]};
+}
+
+void Problem::set_surface_profile(
+    const std::function<double(const std::array<double, 3>&)>& f)
+{
+  // P1: the dofs sit at the vertices.
+  const std::vector<double> x = surface_profile->function_space()->tabulate_dof_coordinates(false);
+  auto values = surface_profile->x()->mutable_array();
+  for (std::size_t i = 0; i < values.size(); ++i)
+    values[i] = f({x[3 * i], x[3 * i + 1], x[3 * i + 2]});
 }
 
 void Problem::residual(la::Vector<double>& b)
@@ -212,6 +236,54 @@ void Problem::jacobian(Mat A)
                             *_J->function_spaces()[0], _bcs);
   MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
   MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
+}
+
+void Problem::cavity_load(std::size_t c, la::Vector<double>& b)
+{
+  std::fill(b.mutable_array().begin(), b.mutable_array().end(), 0.0);
+  fem::assemble_vector<double>(b.mutable_array(), *_cavity_loads.at(c));
+  b.scatter_rev(std::plus<double>());
+  fem::set_bc<double>(b.mutable_array(), _bcs, 0.0);
+}
+
+void Problem::volume_derivative(std::size_t c, la::Vector<double>& b)
+{
+  std::fill(b.mutable_array().begin(), b.mutable_array().end(), 0.0);
+  fem::assemble_vector<double>(b.mutable_array(), *_dvolumes.at(c));
+  b.scatter_rev(std::plus<double>());
+}
+
+std::vector<double> Problem::nodal_displacement() const
+{
+  auto P1 = coordinate_space();
+  fem::Function<double> w(P1);
+  w.interpolate(*u);
+  w.x()->scatter_fwd();
+  const auto& mesh = *P1->mesh();
+  const auto& xdofs = mesh.geometry().dofmap();
+  const auto& dofs = *P1->dofmap();
+  std::vector<double> out(mesh.geometry().x().size());
+  const std::int32_t cells = mesh.topology().index_map(3)->size_local()
+                             + mesh.topology().index_map(3)->num_ghosts();
+  for (std::int32_t c = 0; c < cells; ++c)
+  {
+    auto nodes = xdofs.links(c);
+    auto d = dofs.cell_dofs(c);
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+      for (int j = 0; j < 3; ++j)
+        out[3 * nodes[i] + j] = w.x()->array()[3 * d[i] + j];
+  }
+  return out;
+}
+
+void Problem::update_fibres()
+{
+  auto fresh = cell_fields(*_cells, _parts, _materials, _fibres,
+                           fields.at("c10")->function_space(),
+                           fields.at("fibre_1")->function_space());
+  for (const char* name : {"fibre_1", "fibre_2"})
+    std::copy(fresh.at(name)->x()->array().begin(), fresh.at(name)->x()->array().end(),
+              fields.at(name)->x()->mutable_array().begin());
 }
 
 Mat Problem::create_matrix() const { return fem::petsc::create_matrix(*_J, "aij"); }

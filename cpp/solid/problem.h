@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -43,8 +44,13 @@ public:
           const FibreRule& fibres, const Boundaries& boundaries,
           std::array<double, 3> volume_origin);
 
-  /// Pressures [MPa] of the cavities (one per cavity) and of the loaded surface.
-  void set_pressures(const std::vector<double>& cavities, double surface);
+  /// Pressures [MPa] of the cavities, one per cavity.
+  void set_cavity_pressures(const std::vector<double>& pressures);
+  /// Peak pressure [MPa] on the loaded surface (the profile scales it).
+  void set_surface_pressure(double pressure) { _p_surface->value = {pressure}; }
+  /// Shape f(X) of the surface pressure, evaluated at the current
+  /// reference coordinates (1 until set).
+  void set_surface_profile(const std::function<double(const std::array<double, 3>&)>& f);
 
   /// b = R(u), with b = u - g on Dirichlet dofs.
   void residual(dolfinx::la::Vector<double>& b);
@@ -55,6 +61,17 @@ public:
 
   /// Whole-model cavity volumes (the meshed part times the symmetry factor).
   std::vector<double> cavity_volumes() const;
+  /// Number of cavities.
+  std::size_t cavities() const { return _volumes.size(); }
+  /// b = dR/dp_c: the cavity's load at unit pressure, zero on Dirichlet dofs.
+  void cavity_load(std::size_t c, dolfinx::la::Vector<double>& b);
+  /// b = dV_c/du of the meshed part of cavity c (no symmetry factor).
+  void volume_derivative(std::size_t c, dolfinx::la::Vector<double>& b);
+
+  /// Displacement at the mesh's geometry nodes, laid out as geometry().x().
+  std::vector<double> nodal_displacement() const;
+  /// Lay the fibres again on the current reference geometry (after it moved).
+  void update_fibres();
   /// Displacement at reference points (every rank gets every value).
   std::vector<std::array<double, 3>>
   displacement_at(const std::vector<std::array<double, 3>>& points) const;
@@ -65,19 +82,27 @@ public:
 
   std::shared_ptr<dolfinx::fem::Function<double>> u;          ///< displacement [mm]
   std::shared_ptr<dolfinx::fem::Function<double>> von_mises;  ///< [MPa], DG0
+  std::shared_ptr<dolfinx::fem::Function<double>> surface_profile; ///< [-], P1
   CellFields fields;                                          ///< materials and fibres
   std::int64_t dofs() const;
   int symmetry_factor() const { return _symmetry_factor; }
 
 private:
   std::shared_ptr<dolfinx::fem::Form<double>> _R, _J;
-  std::vector<std::shared_ptr<dolfinx::fem::Form<double>>> _volumes; ///< one per cavity
+  /// Per cavity: volume, unit-pressure load, volume derivative.
+  std::vector<std::shared_ptr<dolfinx::fem::Form<double>>> _volumes, _cavity_loads,
+      _dvolumes;
   std::shared_ptr<dolfinx::fem::Expression<double>> _von_mises;
   std::vector<std::shared_ptr<dolfinx::fem::Constant<double>>> _p_cavities;
   std::shared_ptr<dolfinx::fem::Constant<double>> _p_surface, _x0;
   std::vector<std::shared_ptr<const dolfinx::fem::DirichletBC<double>>> _bcs;
   std::shared_ptr<dolfinx::mesh::MeshTags<std::int32_t>> _law_tags, _load_tags;
   int _symmetry_factor = 1;
+  // What lays the fibres: kept for update_fibres().
+  std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> _cells;
+  std::map<std::int32_t, std::string> _parts;
+  std::map<std::string, Material> _materials;
+  FibreRule _fibres;
 };
 
 } // namespace nct::solid

@@ -23,7 +23,38 @@ double dot(const dolfinx::la::Vector<double>& a, const dolfinx::la::Vector<doubl
   return s;
 }
 
-double norm(const dolfinx::la::Vector<double>& b) { return std::sqrt(dot(b, b)); }
+/// x = S^-1 r for a small dense S (row-major), by Gaussian elimination
+/// with partial pivoting; NaN if S is singular.
+std::vector<double> solve_dense(std::vector<double> S, std::vector<double> r)
+{
+  const std::size_t n = r.size();
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    std::size_t p = k;
+    for (std::size_t i = k + 1; i < n; ++i)
+      if (std::abs(S[i * n + k]) > std::abs(S[p * n + k]))
+        p = i;
+    if (S[p * n + k] == 0)
+      return std::vector<double>(n, std::nan(""));
+    for (std::size_t j = 0; j < n; ++j)
+      std::swap(S[k * n + j], S[p * n + j]);
+    std::swap(r[k], r[p]);
+    for (std::size_t i = k + 1; i < n; ++i)
+    {
+      const double f = S[i * n + k] / S[k * n + k];
+      for (std::size_t j = k; j < n; ++j)
+        S[i * n + j] -= f * S[k * n + j];
+      r[i] -= f * r[k];
+    }
+  }
+  for (std::size_t k = n; k-- > 0;)
+  {
+    for (std::size_t j = k + 1; j < n; ++j)
+      r[k] -= S[k * n + j] * r[j];
+    r[k] /= S[k * n + k];
+  }
+  return r;
+}
 
 } // namespace
 
@@ -53,23 +84,51 @@ Newton::~Newton()
     KSPDestroy(&_ksp);
 }
 
-NewtonReport Newton::solve(dolfinx::la::Vector<double>& x,
-                           const std::function<void(dolfinx::la::Vector<double>&)>& residual,
-                           const std::function<void(Mat)>& jacobian,
-                           const NewtonSettings& settings)
+NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
 {
+  using Vector = dolfinx::la::Vector<double>;
+  Vector& x = *system.x;
+  std::vector<double>& y = *system.y;
+  const std::size_t ny = y.size();
   NewtonReport report;
-  dolfinx::la::Vector<double> b(x.map(), x.bs()), dx(x.map(), x.bs()),
-      x_old(x.map(), x.bs()), b_start(x.map(), x.bs());
+  Vector b(x.map(), x.bs()), dx(x.map(), x.bs()), x_old(x.map(), x.bs()),
+      b_start(x.map(), x.bs());
+  std::vector<Vector> B(ny, b), C(ny, b), Z(ny, b);
+  std::vector<double> g(ny), g_start(ny), y_old(ny), dy(ny);
   Vec b_petsc = dolfinx::la::petsc::create_vector_wrap(b);
   Vec dx_petsc = dolfinx::la::petsc::create_vector_wrap(dx);
+  std::vector<Vec> B_petsc, Z_petsc;
+  for (std::size_t i = 0; i < ny; ++i)
+  {
+    B_petsc.push_back(dolfinx::la::petsc::create_vector_wrap(B[i]));
+    Z_petsc.push_back(dolfinx::la::petsc::create_vector_wrap(Z[i]));
+  }
 
   auto assemble_residual = [&]
   {
     double t = MPI_Wtime();
-    residual(b);
+    system.residual(b, g);
     timings.assemble += MPI_Wtime() - t;
-    return norm(b);
+    double r2 = dot(b, b);
+    for (double gi : g)
+      r2 += gi * gi;
+    return std::sqrt(r2);
+  };
+  // dx . R + dy . G at the current state: the line search's slope.
+  auto slope = [&]
+  {
+    double s = dot(dx, b);
+    for (std::size_t i = 0; i < ny; ++i)
+      s += dy[i] * g[i];
+    return s;
+  };
+  auto linear_solve = [&](Vec rhs, Vec sol)
+  {
+    KSPSolve(_ksp, rhs, sol);
+    ++timings.linear_solves;
+    KSPConvergedReason reason;
+    KSPGetConvergedReason(_ksp, &reason);
+    return reason;
   };
 
   double r = assemble_residual();
@@ -96,36 +155,67 @@ NewtonReport Newton::solve(dolfinx::la::Vector<double>& x,
     double t = MPI_Wtime();
     if (!settings.reuse_jacobian || !_factorised || slow)
     {
-      jacobian(_A);
+      system.jacobian(_A);
       ++timings.jacobians;
       timings.assemble += MPI_Wtime() - t;
       t = MPI_Wtime();
       KSPSetOperators(_ksp, _A, _A);
       _factorised = true;
     }
-    KSPSolve(_ksp, b_petsc, dx_petsc);
+    KSPConvergedReason ksp_reason = linear_solve(b_petsc, dx_petsc);
     timings.solve += MPI_Wtime() - t;
-    ++timings.linear_solves;
-    KSPConvergedReason ksp_reason;
-    KSPGetConvergedReason(_ksp, &ksp_reason);
+    if (ny > 0 && ksp_reason > 0)
+    {
+      // The border: Z = K^-1 B, then the Schur complement S = C Z.
+      const double t_border = MPI_Wtime();
+      system.border(B, C);
+      const double t_solve = MPI_Wtime();
+      timings.assemble += t_solve - t_border;
+      for (std::size_t i = 0; i < ny && ksp_reason > 0; ++i)
+        ksp_reason = linear_solve(B_petsc[i], Z_petsc[i]);
+      timings.solve += MPI_Wtime() - t_solve;
+      std::vector<double> S(ny * ny), rhs(ny);
+      for (std::size_t i = 0; i < ny; ++i)
+      {
+        rhs[i] = dot(C[i], dx) - g[i];
+        for (std::size_t j = 0; j < ny; ++j)
+          S[i * ny + j] = dot(C[i], Z[j]);
+      }
+      dy = solve_dense(S, rhs);
+      for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t k = 0; k < dx.array().size(); ++k)
+          dx.mutable_array()[k] -= dy[j] * Z[j].array()[k];
+      timings.border += MPI_Wtime() - t_border;
+    }
     if (ksp_reason < 0)
     {
       report.reason = std::string("the linear solver failed (")
                       + KSPConvergedReasons[ksp_reason] + ")";
       break;
     }
+    if (!std::all_of(dy.begin(), dy.end(), [](double v) { return std::isfinite(v); }))
+    {
+      report.reason = "the bordered system is singular (a constraint does not depend "
+                      "on the field)";
+      break;
+    }
     dx.scatter_fwd();
     std::copy(b.array().begin(), b.array().end(), b_start.mutable_array().begin());
+    g_start = g;
 
-    // Step length. x(alpha) = x_old - alpha dx. "energy": find alpha where
-    // the residual is orthogonal to the step, g(alpha) = dx . R(x(alpha))
-    // = 0 (the energy's directional derivative), by secant steps from
-    // alpha = 1; a non-finite residual halves alpha. Full steps otherwise.
+    // Step length. (x, y)(alpha) = (x, y)_old - alpha (dx, dy). "energy":
+    // find alpha where the residual is orthogonal to the step, s(alpha)
+    // = dx . R + dy . G = 0 (the energy's directional derivative), by
+    // secant steps from alpha = 1; a non-finite residual halves alpha.
+    // Full steps otherwise.
     std::copy(x.array().begin(), x.array().end(), x_old.mutable_array().begin());
+    y_old = y;
     auto take = [&](double alpha)
     {
       for (std::size_t i = 0; i < x.array().size(); ++i)
         x.mutable_array()[i] = x_old.array()[i] - alpha * dx.array()[i];
+      for (std::size_t i = 0; i < ny; ++i)
+        y[i] = y_old[i] - alpha * dy[i];
       return assemble_residual();
     };
     double alpha = 1.0, r_new = take(alpha);
@@ -133,20 +223,22 @@ NewtonReport Newton::solve(dolfinx::la::Vector<double>& x,
       r_new = take(alpha /= 2);
     if (settings.line_search && std::isfinite(r_new))
     {
-      const double g0 = dot(dx, b_start);
-      double g = dot(dx, b);
-      bool at_alpha = true; // do x and b hold the state at alpha?
-      for (int k = 0; k < 5 && std::abs(g) > 0.5 * std::abs(g0) && g * g0 < 0; ++k)
+      double s0 = dot(dx, b_start);
+      for (std::size_t i = 0; i < ny; ++i)
+        s0 += dy[i] * g_start[i];
+      double s = slope();
+      bool at_alpha = true; // do x, y and b, g hold the state at alpha?
+      for (int k = 0; k < 5 && std::abs(s) > 0.5 * std::abs(s0) && s * s0 < 0; ++k)
       {
-        // Secant between (0, g0) and (alpha, g), kept within [alpha/10, alpha].
-        const double next = std::clamp(alpha * g0 / (g0 - g), 0.1 * alpha, alpha);
+        // Secant between (0, s0) and (alpha, s), kept within [alpha/10, alpha].
+        const double next = std::clamp(alpha * s0 / (s0 - s), 0.1 * alpha, alpha);
         const double r_try = take(next);
         if (!std::isfinite(r_try))
         {
           at_alpha = false;
           break;
         }
-        alpha = next, r_new = r_try, g = dot(dx, b);
+        alpha = next, r_new = r_try, s = slope();
       }
       if (!at_alpha)
         r_new = take(alpha);
@@ -159,6 +251,11 @@ NewtonReport Newton::solve(dolfinx::la::Vector<double>& x,
   }
   VecDestroy(&b_petsc);
   VecDestroy(&dx_petsc);
+  for (std::size_t i = 0; i < ny; ++i)
+  {
+    VecDestroy(&B_petsc[i]);
+    VecDestroy(&Z_petsc[i]);
+  }
   if (!report.converged)
     _factorised = false; // the caller restarts elsewhere: start afresh
   return report;

@@ -40,13 +40,41 @@ struct Timings
   double solve = 0;
   int linear_solves = 0;
   int jacobians = 0; ///< Jacobian assemblies (factorisations with a direct solver)
+  double border = 0; ///< of assemble and solve: the bordered system's extra work
 };
 
 /// PETSc options in force: defaults (MUMPS LU), overridden by `options`
 /// in order, e.g. the scene's and then the command line's.
 void set_petsc_options(const std::vector<std::pair<std::string, std::string>>& options);
 
-/// Newton's method on R(x) = 0 for a state the caller owns.
+/// The nonlinear system R(x, y) = 0, G(x, y) = 0 of a distributed field x
+/// bordered by a few global unknowns y (every rank holds all of y), e.g.
+/// the pressures of closed cavities. Without y it is R(x) = 0.
+///
+/// Newton's linear system is the bordered matrix
+///
+///     [ K  B ] [dx]   [R]        K = dR/dx, B_i = dR/dy_i,
+///     [ C  0 ] [dy] = [G],       C_i = dG_i/dx (G does not depend on y),
+///
+/// solved by block elimination with K's factorisation: z = K^-1 R,
+/// Z_i = K^-1 B_i, S = C Z, dy = S^-1 (C z - G), dx = z - Z dy.
+/// If R and G are the derivatives of one Lagrangian, dx . R + dy . G is
+/// its directional derivative, which the line search drives to zero.
+struct System
+{
+  dolfinx::la::Vector<double>* x;
+  std::vector<double>* y; ///< may be empty
+  /// b = R and g = G at the current (x, y); b = x - x_D on Dirichlet dofs.
+  std::function<void(dolfinx::la::Vector<double>& b, std::vector<double>& g)> residual;
+  /// A = K, with identity rows on Dirichlet dofs.
+  std::function<void(Mat A)> jacobian;
+  /// B[i] = dR/dy_i (zero on Dirichlet dofs), C[i] = dG_i/dx; only with y.
+  std::function<void(std::vector<dolfinx::la::Vector<double>>& B,
+                     std::vector<dolfinx::la::Vector<double>>& C)>
+      border;
+};
+
+/// Newton's method on a System the caller owns.
 class Newton
 {
 public:
@@ -56,13 +84,13 @@ public:
   Newton(const Newton&) = delete;
   Newton& operator=(const Newton&) = delete;
 
-  /// Solve from the current x. `residual` assembles R at the current x
-  /// into b; `jacobian` assembles dR/dx into A. x's ghosts are updated
-  /// after every change. On failure x is left at the last iterate.
-  NewtonReport solve(dolfinx::la::Vector<double>& x,
-                     const std::function<void(dolfinx::la::Vector<double>&)>& residual,
-                     const std::function<void(Mat)>& jacobian,
-                     const NewtonSettings& settings);
+  /// Solve from the current (x, y). x's ghosts are updated after every
+  /// change. The residual norm is sqrt(|R|^2 + |G|^2). On failure (x, y)
+  /// are left at the last iterate.
+  NewtonReport solve(const System& system, const NewtonSettings& settings);
+
+  /// Forget the factorised Jacobian (e.g. after the mesh moved).
+  void reset() { _factorised = false; }
 
   Timings timings;
 

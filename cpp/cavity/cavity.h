@@ -1,0 +1,50 @@
+// The fluid cavities (humors) as seen by the Newton solve: prescribed
+// pressures (open) or closed cavities whose pressures are unknowns.
+#pragma once
+
+#include <vector>
+
+#include "solid/problem.h"
+#include "solver/newton.h"
+
+namespace nct::cavity
+{
+
+/// The solid with prescribed cavity pressures (open cavities, or none):
+/// R(u) = 0 and no bordering unknowns.
+class Open
+{
+public:
+  explicit Open(solid::Problem& problem) : _problem(problem) {}
+  solver::System system();
+
+private:
+  solid::Problem& _problem;
+  std::vector<double> _none;
+};
+
+/// Closed cavities (design.md section 6): each pressure p_c is the Lagrange
+/// multiplier of V_c(u) = V_c,target, so the humor is incompressible.
+/// The constraint rows are G_c = (V_c,target - V_c(u)) / s in the meshed
+/// part's volume (s the symmetry factor): with R = dPi/du + sum p_c dR/dp_c
+/// and dR/dp_c = -dV_c/du, (R, G) is the gradient of the Lagrangian
+/// Pi(u) + sum p_c G_c(u), so the bordered matrix is symmetric.
+class Closed
+{
+public:
+  /// Close the cavities at the problem's current state: the targets are
+  /// the current volumes, the pressures start at `pressures` [MPa].
+  Closed(solid::Problem& problem, std::vector<double> pressures);
+  solver::System system();
+
+  /// Cavity pressures [MPa] (the unknowns).
+  const std::vector<double>& pressures() const { return _pressures; }
+  /// Whole-model volumes held [mm^3].
+  const std::vector<double>& targets() const { return _targets; }
+
+private:
+  solid::Problem& _problem;
+  std::vector<double> _pressures, _targets;
+};
+
+} // namespace nct::cavity

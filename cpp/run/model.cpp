@@ -1,0 +1,262 @@
+#include "run/model.h"
+
+#include <cmath>
+#include <gmsh.h>
+
+#include "eye/geometry.h"
+
+namespace nct
+{
+namespace
+{
+
+std::int32_t surface_tag(const meshio::Groups& g, const std::string& name,
+                         const std::string& file, const std::string& key)
+{
+  auto it = g.surfaces.find(name);
+  if (it == g.surfaces.end())
+  {
+    std::string known;
+    for (auto& [n, t] : g.surfaces)
+      known += (known.empty() ? "" : ", ") + n;
+    throw scene::Error(file + ": key '" + key + "': the mesh has no surface group '" + name
+                       + "' (it has: " + known + ")");
+  }
+  return it->second;
+}
+
+/// gmsh for the span of a scope, quiet.
+struct GmshSession
+{
+  GmshSession()
+  {
+    gmsh::initialize();
+    gmsh::option::setNumber("General.Terminal", 0);
+  }
+  ~GmshSession() { gmsh::finalize(); }
+};
+
+/// The eye's shape from [geometry]: each key is the field of the same name.
+eye::Geometry eye_geometry(const scene::Scene& s)
+{
+  using G = eye::Geometry;
+  static const std::vector<std::pair<const char*, double G::*>> shell
+      = {{"cornea_anterior_radius", &G::cornea_anterior_radius},
+         {"cornea_posterior_radius", &G::cornea_posterior_radius},
+         {"cornea_central_thickness", &G::cornea_central_thickness},
+         {"limbus_diameter", &G::limbus_diameter},
+         {"limbus_width", &G::limbus_width},
+         {"sclera_outer_radius", &G::sclera_outer_radius},
+         {"sclera_thickness", &G::sclera_thickness},
+         {"cut_y", &G::cut_y}};
+  static const std::vector<std::pair<const char*, double G::*>> internal
+      = {{"anterior_chamber_depth", &G::anterior_chamber_depth},
+         {"lens_thickness", &G::lens_thickness},
+         {"lens_diameter", &G::lens_diameter},
+         {"lens_anterior_radius", &G::lens_anterior_radius},
+         {"lens_posterior_radius", &G::lens_posterior_radius},
+         {"lens_nucleus_fraction", &G::lens_nucleus_fraction},
+         {"ciliary_offset", &G::ciliary_offset}};
+  G g;
+  for (auto [key, field] : shell)
+    g.*field = s.real(std::string("geometry.") + key);
+  g.internal_structures = s.boolean("geometry.internal_structures");
+  if (g.internal_structures)
+    for (auto [key, field] : internal)
+      g.*field = s.real(std::string("geometry.") + key);
+  return g;
+}
+
+/// The eye's derived shape; an impossible geometry is a scene error.
+eye::Derived eye_derived(const scene::Scene& s)
+{
+  try
+  {
+    return eye::derive(eye_geometry(s));
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw scene::Error(s.file().string() + ": " + e.what());
+  }
+}
+
+/// An external mesh's groups against the scene's materials and boundaries.
+void check_file_groups(const scene::Scene& s, const meshio::Groups& groups)
+{
+  const std::string file = s.file().string();
+  auto materials = s.tables("material");
+  for (auto& [name, tag] : groups.volumes)
+    if (std::find(materials.begin(), materials.end(), name) == materials.end())
+      throw scene::Error(file + ": volume group '" + name + "' of " + s.string("mesh.file")
+                         + " has no [material." + name + "] table");
+  for (auto& name : materials)
+    if (!groups.volumes.count(name))
+      throw scene::Error(file + ": key 'material." + name
+                         + "': the mesh has no volume group '" + name + "'");
+  for (const char* key : {"boundary.fixed", "boundary.symmetry", "boundary.cavity_wall",
+                          "boundary.surface_load"})
+    for (auto& name : s.strings(key))
+      surface_tag(groups, name, file, key);
+}
+
+MeshSetup eye_mesh(MPI_Comm comm, const scene::Scene& s)
+{
+  const eye::Geometry g = eye_geometry(s);
+  const eye::Derived d = eye_derived(s);
+  eye::Refinement r;
+  r.layers = s.integer("mesh.layers");
+  r.size_cornea = s.real("mesh.size_cornea");
+  r.size_limbus = s.real("mesh.size_limbus");
+  r.size_sclera = s.real("mesh.size_sclera");
+  if (g.internal_structures)
+    r.size_lens = s.real("mesh.size_lens");
+
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  // Meshing runs on rank 0; what fails there stops every rank.
+  std::string error, bad_input;
+  if (rank == 0)
+  {
+    try
+    {
+      eye::build(g, r);
+    }
+    catch (const std::invalid_argument& e)
+    {
+      bad_input = e.what();
+    }
+    catch (const std::exception& e)
+    {
+      error = e.what();
+    }
+  }
+  if (bad_input = meshio::broadcast(comm, bad_input); !bad_input.empty())
+    throw scene::Error(s.file().string() + ": " + bad_input);
+  if (error = meshio::broadcast(comm, error); !error.empty())
+    throw std::runtime_error("meshing the eye failed: " + error);
+  MeshSetup m{meshio::distribute(comm, meshio::extract(comm)), {}, {}, {}, {}, {}, {}, {}};
+  for (auto& [name, tag] : m.mesh.groups.volumes)
+    m.parts[tag] = name;
+  const auto& gs = m.mesh.groups;
+  const std::string eye_model = "the eye model";
+  m.boundaries.fixed = {surface_tag(gs, "fixed", eye_model, "mesh")};
+  m.boundaries.symmetry = {surface_tag(gs, "symmetry_x", eye_model, "mesh"),
+                           surface_tag(gs, "symmetry_z", eye_model, "mesh")};
+  if (g.internal_structures)
+  {
+    m.boundaries.cavities = {{surface_tag(gs, "aqueous_wall", eye_model, "mesh")},
+                             {surface_tag(gs, "vitreous_wall", eye_model, "mesh")}};
+    m.cavity_names = {"aqueous", "vitreous"};
+  }
+  else
+  {
+    m.boundaries.cavities = {{surface_tag(gs, "cavity_wall", eye_model, "mesh")}};
+    m.cavity_names = {"cavity"};
+  }
+  m.boundaries.surface_load = {surface_tag(gs, "anterior_cornea", eye_model, "mesh")};
+  m.fibres = [g](const std::string& part, const std::array<double, 3>& X)
+  {
+    static const std::map<std::string, eye::Part> by_name
+        = {{"cornea", eye::Part::cornea},           {"limbus", eye::Part::limbus},
+           {"sclera", eye::Part::sclera},           {"lens_cortex", eye::Part::lens_cortex},
+           {"lens_nucleus", eye::Part::lens_nucleus}, {"zonule", eye::Part::zonule},
+           {"vitreous_membrane", eye::Part::vitreous_membrane}};
+    return eye::fibres(g, by_name.at(part), X);
+  };
+  m.volume_origin = {0.0, g.cut_y, 0.0};
+  m.probes = {{0.0, d.apex_y, 0.0}};
+  m.probe_names = {"apex"};
+  return m;
+}
+
+MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s)
+{
+  const std::string file = s.file().string();
+  meshio::Groups groups = meshio::open(comm, s.path("mesh.file"));
+  check_file_groups(s, groups);
+  auto materials = s.tables("material");
+  solid::Boundaries b;
+  auto tags = [&](const std::string& key)
+  {
+    std::vector<std::int32_t> t;
+    for (auto& name : s.strings(key))
+      t.push_back(surface_tag(groups, name, file, key));
+    return t;
+  };
+  b.fixed = tags("boundary.fixed");
+  b.symmetry = tags("boundary.symmetry");
+  if (auto walls = tags("boundary.cavity_wall"); !walls.empty())
+    b.cavities = {walls};
+  b.surface_load = tags("boundary.surface_load");
+
+  MeshSetup m{meshio::distribute(comm, meshio::extract(comm, s.real("mesh.size_max"))),
+              {}, b, {}, {}, {}, {}, {}};
+  if (!b.cavities.empty())
+    m.cavity_names = {"cavity"};
+  for (auto& [name, tag] : groups.volumes)
+    m.parts[tag] = name;
+  std::map<std::string, std::array<std::array<double, 3>, 2>> constant;
+  for (auto& name : materials)
+  {
+    std::array<std::array<double, 3>, 2> a{};
+    auto dirs = s.points("material." + name + ".fibre_directions");
+    for (std::size_t i = 0; i < dirs.size(); ++i)
+    {
+      double n = std::hypot(dirs[i][0], dirs[i][1], dirs[i][2]);
+      if (n == 0)
+        throw scene::Error(file + ": key 'material." + name
+                           + ".fibre_directions': a zero vector has no direction");
+      for (int j = 0; j < 3; ++j)
+        a[i][j] = dirs[i][j] / n;
+    }
+    constant[name] = a;
+  }
+  m.fibres = [constant](const std::string& part, const std::array<double, 3>&)
+  { return constant.at(part); };
+  m.volume_origin = s.points("cavity.origin").at(0);
+  return m;
+}
+
+} // namespace
+
+void check(MPI_Comm comm, const scene::Scene& s)
+{
+  if (s.string("mesh.source") == "eye")
+    eye_derived(s);
+  else
+  {
+    GmshSession gmsh_session;
+    check_file_groups(s, meshio::open(comm, s.path("mesh.file")));
+  }
+}
+
+Model make_model(MPI_Comm comm, const scene::Scene& s)
+{
+  check(comm, s);
+  Model model;
+  model.eye = s.string("mesh.source") == "eye";
+  double t = MPI_Wtime();
+  {
+    GmshSession gmsh_session;
+    model.setup = model.eye ? eye_mesh(comm, s) : file_mesh(comm, s);
+  }
+  MeshSetup& m = model.setup;
+  for (auto& p : s.points("output.probes"))
+  {
+    m.probes.push_back(p);
+    m.probe_names.push_back("probe_" + std::to_string(m.probe_names.size()));
+  }
+  model.t_mesh = MPI_Wtime() - t;
+
+  t = MPI_Wtime();
+  std::map<std::string, solid::Material> materials;
+  for (auto& [tag, part] : m.parts)
+    materials[part] = solid::read_material(s, part);
+  model.problem = std::make_unique<solid::Problem>(
+      m.mesh, s.integer("fem.degree"), s.string("fem.quadrature") == "reduced", m.parts,
+      materials, m.fibres, m.boundaries, m.volume_origin);
+  model.t_setup = MPI_Wtime() - t;
+  return model;
+}
+
+} // namespace nct

@@ -1,0 +1,50 @@
+// A scene's model: the mesh with its parts and boundaries, and the solid on it.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <mpi.h>
+
+#include "meshio/model.h"
+#include "scene/scene.h"
+#include "solid/problem.h"
+
+namespace nct
+{
+
+/// Everything a scene's mesh brings: the distributed mesh, its parts and
+/// boundaries, how fibres are laid, where volumes and probes are taken.
+struct MeshSetup
+{
+  meshio::Tagged mesh;
+  std::map<std::int32_t, std::string> parts;
+  solid::Boundaries boundaries;
+  solid::FibreRule fibres;
+  std::array<double, 3> volume_origin;
+  std::vector<std::array<double, 3>> probes;
+  std::vector<std::string> probe_names;
+  std::vector<std::string> cavity_names; ///< one per entry of boundaries.cavities
+};
+
+/// The scene's mesh (built or read, then distributed) and the solid on it.
+struct Model
+{
+  MeshSetup setup;
+  std::unique_ptr<solid::Problem> problem;
+  bool eye = false;   ///< the parametric eye (else an external mesh)
+  double t_mesh = 0;  ///< wall time of meshing and distribution [s]
+  double t_setup = 0; ///< wall time of the problem's setup [s]
+};
+
+/// Build the scene's model. Throws scene::Error on bad input.
+Model make_model(MPI_Comm comm, const scene::Scene& scene);
+
+/// The checks of a scene that need more than its keys: the eye's geometry,
+/// an external mesh's groups against the scene's materials and boundaries.
+/// Nothing is meshed; throws scene::Error.
+void check(MPI_Comm comm, const scene::Scene& scene);
+
+} // namespace nct

@@ -1,0 +1,198 @@
+// Closed cavities (volume-constraint multipliers) and the zero-pressure
+// geometry; run serially and on 2 ranks (tests/CMakeLists.txt).
+#include <cmath>
+#include <gtest/gtest.h>
+
+#include <dolfinx/la/petsc.h>
+
+#include "cavity/cavity.h"
+#include "eye/geometry.h"
+#include "helpers.h"
+#include "run/model.h"
+
+namespace
+{
+
+using namespace nct::test;
+
+/// The eye closed at 15 mmHg and pressed on the cornea (a gaussian patch).
+const std::vector<std::string> press_case
+    = {"zero_pressure.enabled=false", "mesh.layers=3", "inflate.steps=3",
+       "press.pressure=60.0",         "press.steps=2", "output.fields=false"};
+
+std::vector<std::string> with(std::vector<std::string> sets,
+                              const std::vector<std::string>& more)
+{
+  sets.insert(sets.end(), more.begin(), more.end());
+  return sets;
+}
+
+/// Observed order of convergence from the last three residuals above the
+/// round-off floor (1e-8 of the first): log(r2/r1) / log(r1/r0).
+double observed_rate(const nlohmann::json& residuals)
+{
+  std::vector<double> r;
+  const double floor = 1e-8 * residuals[0].get<double>();
+  for (const auto& v : residuals)
+    if (v.get<double>() > floor)
+      r.push_back(v.get<double>());
+  if (r.size() < 3)
+    return 0;
+  const std::size_t n = r.size();
+  return std::log(r[n - 1] / r[n - 2]) / std::log(r[n - 2] / r[n - 3]);
+}
+
+} // namespace
+
+// (a) + (b): the closed cavity holds its volume to 1e-10 while the press
+// raises its pressure, and full Newton on the bordered system converges
+// quadratically.
+TEST(Cavity, ClosedCavityHoldsVolumeUnderPress)
+{
+  auto summary = run_scene("scenes/cavity-press.toml", "cavity_closed",
+                           with(press_case, {"solver.jacobian=every_iteration"}));
+  ASSERT_EQ(summary["status"], "converged");
+  double held = 0, previous = 15.0;
+  for (const auto& step : summary["steps"])
+  {
+    if (step["phase"] != "press")
+      continue;
+    if (held == 0)
+      held = summary["steps"][2]["cavity_volume_mm3"].get<double>(); // at closing
+    const double V = step["cavity_volume_mm3"].get<double>();
+    const double p = step["cavity_pressure_mmHg"].get<double>();
+    const double rate = observed_rate(step["newton_residuals"]);
+    std::printf("press %.2f: IOP %.4f mmHg, volume %.10f mm3 (relative change %.2e), "
+                "Newton rate %.2f over %zu iterations\n",
+                step["load_fraction"].get<double>(), p, V, V / held - 1, rate,
+                step["newton_residuals"].size() - 1);
+    EXPECT_LT(std::abs(V / held - 1), 1e-10);
+    EXPECT_GT(p, previous + 0.5); // the push raises the IOP
+    EXPECT_GT(rate, 1.8);
+    previous = p;
+  }
+}
+
+// The multiplier is the pressure: an open cavity held at the closed run's
+// final pressure, under the same press, reaches the same state (the solid
+// is hyperelastic, so the path does not matter) and the closed volume.
+TEST(Cavity, ClosedPressureIsTheOpenEquilibrium)
+{
+  auto closed = run_scene("scenes/cavity-press.toml", "cavity_closed_reuse", press_case);
+  const double p = closed["cavity_pressure_mmHg"].get<double>();
+  const double held = closed["steps"][2]["cavity_volume_mm3"].get<double>();
+  auto open = run_scene("scenes/cavity-press.toml", "cavity_open_at_closed_pressure",
+                        with(press_case, {"cavity.model=\"constant_pressure\"",
+                                          "inflate.iop=" + std::to_string(p)}));
+  ASSERT_EQ(open["status"], "converged");
+  const double apex_closed = closed["apex_displacement_mm"].get<double>();
+  const double apex_open = open["apex_displacement_mm"].get<double>();
+  std::printf("closed: IOP 15 -> %.6f mmHg, apex %.8f mm; open at that IOP: apex %.8f mm, "
+              "volume %.6f vs held %.6f mm3\n",
+              p, apex_closed, apex_open, open["cavity_volume_mm3"].get<double>(), held);
+  // std::to_string keeps 6 decimals of the pressure: 1e-6 mmHg.
+  EXPECT_NEAR(apex_open, apex_closed, 1e-6);
+  EXPECT_NEAR(open["cavity_volume_mm3"].get<double>() / held, 1.0, 1e-8);
+  // The same press on the constant-IOP eye pushes the apex farther in.
+  auto at_15 = run_scene("scenes/cavity-press.toml", "cavity_open",
+                         with(press_case, {"cavity.model=\"constant_pressure\""}));
+  std::printf("constant IOP: apex %.5f mm, closed: %.5f mm\n",
+              at_15["apex_displacement_mm"].get<double>(), apex_closed);
+  EXPECT_LT(at_15["apex_displacement_mm"].get<double>(), apex_closed - 0.01);
+}
+
+// (b) The bordered Jacobian [K B; C 0] against central differences of
+// (R, G) on a coarse eye, at a large pressed state. The fibres are off:
+// their tension-only switch makes R only once differentiable, so central
+// differences across it converge at first order whatever the Jacobian.
+TEST(Cavity, BorderedJacobianMatchesFiniteDifferences)
+{
+  auto s = nct::scene::Scene::load(
+      std::filesystem::path(NCT_SOURCE_DIR) / "scenes/cavity-press.toml",
+      {"zero_pressure.enabled=false", "mesh.layers=1", "material.cornea.k1=0.0",
+       "material.limbus.k1=0.0"});
+  nct::Model model = nct::make_model(MPI_COMM_WORLD, s);
+  auto& problem = *model.problem;
+  problem.set_surface_profile([](const std::array<double, 3>& x)
+                              { return std::exp(-(x[0] * x[0] + x[2] * x[2]) / 4.5); });
+  problem.set_surface_pressure(100 * mmHg);
+  nct::cavity::Closed closed(problem, {20 * mmHg});
+  // A smooth, large state u and a smooth direction w (through the dof
+  // coordinates, so both ranks see the same fields). w is admissible: zero
+  // on the clamped cut plane and normal to the symmetry planes, where the
+  // Jacobian's Dirichlet rows and columns are identity.
+  const double cut_y = nct::eye::Geometry{}.cut_y;
+  auto V = problem.u->function_space();
+  const std::vector<double> X = V->tabulate_dof_coordinates(false);
+  auto& u = *problem.u->x();
+  dolfinx::la::Vector<double> w(u);
+  for (std::size_t i = 0; i < u.array().size(); ++i)
+  {
+    const double* x = &X[3 * (i / 3)];
+    const int j = static_cast<int>(i % 3);
+    u.mutable_array()[i] = 0.05 * std::sin(0.3 * x[0] + 0.2 * x[1] + j) * (x[1] + 12) / 24;
+    const double normal = j == 0 ? x[0] : j == 2 ? x[2] : 1.0;
+    w.mutable_array()[i]
+        = 0.01 * std::cos(0.5 * x[2] - 0.4 * x[1] + 2 * j) * (x[1] - cut_y) * normal;
+  }
+  const double q = 3 * mmHg; // direction in the pressure
+  auto system = closed.system();
+
+  // J [w; q] = [K w + B q; C . w]
+  dolfinx::la::petsc::Matrix K(problem.create_matrix(), false);
+  system.jacobian(K.mat());
+  dolfinx::la::Vector<double> Jw(u.map(), 3);
+  Vec w_petsc = dolfinx::la::petsc::create_vector_wrap(w);
+  Vec Jw_petsc = dolfinx::la::petsc::create_vector_wrap(Jw);
+  MatMult(K.mat(), w_petsc, Jw_petsc);
+  std::vector<dolfinx::la::Vector<double>> B(1, w), C(1, w);
+  system.border(B, C);
+  const std::int32_t owned = u.map()->size_local() * 3;
+  double Jg = 0;
+  for (std::int32_t i = 0; i < owned; ++i)
+  {
+    Jw.mutable_array()[i] += B[0].array()[i] * q;
+    Jg += C[0].array()[i] * w.array()[i];
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &Jg, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+
+  // Central differences of (R, G) along (w, q): their error falls as
+  // eps^2 until round-off, if and only if the Jacobian is consistent.
+  const dolfinx::la::Vector<double> u0(u);
+  const double p0 = (*system.y)[0];
+  auto residual_at = [&](double t, dolfinx::la::Vector<double>& b, std::vector<double>& g)
+  {
+    for (std::size_t i = 0; i < u.array().size(); ++i)
+      u.mutable_array()[i] = u0.array()[i] + t * w.array()[i];
+    (*system.y)[0] = p0 + t * q;
+    system.residual(b, g);
+  };
+  dolfinx::la::Vector<double> bp(u.map(), 3), bm(u.map(), 3);
+  std::vector<double> gp(1), gm(1), errors;
+  for (double eps : {1e-2, 1e-3, 1e-4})
+  {
+    residual_at(eps, bp, gp);
+    residual_at(-eps, bm, gm);
+    double sums[2] = {0, 0};
+    for (std::int32_t i = 0; i < owned; ++i)
+    {
+      const double fd = (bp.array()[i] - bm.array()[i]) / (2 * eps);
+      sums[0] += std::pow(fd - Jw.array()[i], 2);
+      sums[1] += fd * fd;
+    }
+    MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    const double fd_g = (gp[0] - gm[0]) / (2 * eps);
+    const double err_u = std::sqrt(sums[0] / sums[1]);
+    const double err_g = std::abs(fd_g - Jg) / std::abs(fd_g);
+    std::printf("bordered Jacobian vs central differences, eps %.0e: displacement rows "
+                "%.2e, constraint row %.2e (relative)\n",
+                eps, err_u, err_g);
+    errors.push_back(std::max(err_u, err_g));
+  }
+  EXPECT_LT(errors.back(), 1e-6);
+  EXPECT_LT(errors[1], 0.02 * errors[0]); // about 100x per decade: second order
+  // The border alone: B q is a real part of the product, C is nonzero.
+  EXPECT_GT(std::abs(Jg), 0.0);
+  VecDestroy(&w_petsc);
+  VecDestroy(&Jw_petsc);
+}
