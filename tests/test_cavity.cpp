@@ -196,3 +196,57 @@ TEST(Cavity, BorderedJacobianMatchesFiniteDifferences)
   VecDestroy(&w_petsc);
   VecDestroy(&Jw_petsc);
 }
+
+// (c) The zero-pressure geometry of the nearly incompressible thick sphere
+// against the closed form: the stress-free radii (A0, B0) whose inflation
+// to 30 mmHg gives the meshed sphere (a, b) = (1, 1.5), with
+// B0^3 - A0^3 = b^3 - a^3 and p(a / A0) = 30 mmHg.
+TEST(ZeroPressure, ThickSphereMatchesClosedForm)
+{
+  auto summary = run_scene("tests/scenes/sphere_inflation.toml", "sphere_zero_pressure",
+                           {"zero_pressure.enabled=true", "mesh.size_max=0.24"});
+  ASSERT_EQ(summary["status"], "converged");
+  const double a = 1.0, b = 1.5, mu = 2 * 0.005, p = 30 * mmHg;
+  auto outer = [&](double A0) { return std::cbrt(A0 * A0 * A0 + b * b * b - a * a * a); };
+  const double A0 = bisect([&](double A0) { return sphere_pressure(a / A0, A0, outer(A0), mu) - p; },
+                           0.5, 1.0);
+  const double A0_fe = summary["probe_reference_mm"]["probe_0"][0].get<double>();
+  const double B0_fe = summary["probe_reference_mm"]["probe_1"][1].get<double>();
+  std::printf("sphere zero-pressure: %d iterations; A0 FE %.6f exact %.6f; B0 FE %.6f "
+              "exact %.6f; round trip %.2e mm\n",
+              summary["zero_pressure_iterations"].get<int>(), A0_fe, A0, B0_fe, outer(A0),
+              summary["zero_pressure_round_trip_max_mm"].get<double>());
+  // As the forward inflation at this mesh size (2.5% of la - 1).
+  EXPECT_NEAR((a - A0_fe) / (a - A0), 1.0, 0.05);
+  EXPECT_NEAR((b - B0_fe) / (b - outer(A0)), 1.0, 0.05);
+  EXPECT_LE(summary["zero_pressure_round_trip_max_mm"].get<double>(), 1e-4);
+}
+
+// (c) Round trip on the eye: inflating the stress-free geometry from rest
+// gives back the imaged one within zero_pressure.tolerance, at a low, a
+// normal and a high IOP; the apex rises from its stress-free place to the
+// imaged apex.
+TEST(ZeroPressure, EyeRoundTrip)
+{
+  const double apex_y = nct::eye::derive(nct::eye::Geometry{}).apex_y;
+  double previous = 0;
+  for (int iop : {8, 15, 22})
+  {
+    auto summary = run_scene("scenes/cavity-press.toml", "zero_pressure_" + std::to_string(iop),
+                             {"mesh.layers=2", "inflate.steps=2", "press.pressure=0.0",
+                              "inflate.iop=" + std::to_string(iop), "output.fields=false"});
+    ASSERT_EQ(summary["status"], "converged");
+    const double round_trip = summary["zero_pressure_round_trip_max_mm"].get<double>();
+    const double apex_rest = summary["probe_reference_mm"]["apex"][1].get<double>();
+    const double rise = summary["apex_displacement_mm"].get<double>();
+    std::printf("IOP %d mmHg: zero-pressure in %d iterations; round trip %.2e mm (max), "
+                "%.2e mm (rms); stress-free apex %.5f mm, inflated %.7f, imaged %.7f\n",
+                iop, summary["zero_pressure_iterations"].get<int>(), round_trip,
+                summary["zero_pressure_round_trip_rms_mm"].get<double>(), apex_rest,
+                apex_rest + rise, apex_y);
+    EXPECT_LE(round_trip, 1e-4);
+    EXPECT_NEAR(apex_rest + rise, apex_y, 1e-4);
+    EXPECT_GT(rise, previous); // more pressure, more stress-free offset
+    previous = rise;
+  }
+}

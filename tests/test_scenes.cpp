@@ -158,13 +158,17 @@ TEST(Eye, CavityVolumeMatchesGeometry)
 
 // With the internal structures, two cavities: each meshed volume against
 // the analytic one, and together with the diaphragm they fill the merged
-// cavity of the eye without internal structures.
-TEST(Eye, InternalStructuresMakeTwoCavities)
+// cavity of the eye without internal structures. Closed and pressed,
+// each holds its own volume while both pressures rise (the lens-zonule
+// diaphragm passes part of the push on).
+TEST(Eye, InternalStructuresMakeTwoClosedCavities)
 {
   // A moderate IOP keeps this case short (the shipped scene goes to 10).
   auto summary = run_scene("scenes/eye-internal.toml", "eye_internal",
-                           {"inflate.iop=6.0", "inflate.steps=2", "output.fields=false"});
-  EXPECT_EQ(summary["status"], "converged");
+                           {"inflate.iop=6.0", "inflate.steps=2", "cavity.model=\"closed\"",
+                            "press.pressure=20.0", "press.profile=\"gaussian\"",
+                            "press.steps=1", "output.fields=false"});
+  ASSERT_EQ(summary["status"], "converged");
   nct::eye::Geometry g;
   g.internal_structures = true;
   const auto d = nct::eye::derive(g);
@@ -175,11 +179,27 @@ TEST(Eye, InternalStructuresMakeTwoCavities)
   EXPECT_NEAR(aqueous / d.aqueous_volume, 1.0, 0.01);
   EXPECT_NEAR(vitreous / d.vitreous_volume, 1.0, 0.01);
   EXPECT_LT(aqueous + vitreous, d.cavity_volume);
-  // The pressurised eye grows; the apex moves forward as without the
+
+  // Inflated, the eye grows; the apex moves forward as without the
   // internal structures (they hardly load the cornea).
-  EXPECT_GT(summary["apex_displacement_mm"].get<double>(), 0.05);
-  EXPECT_GT(summary["aqueous_volume_mm3"].get<double>(), aqueous);
-  EXPECT_GT(summary["vitreous_volume_mm3"].get<double>(), vitreous);
+  const auto& inflated = summary["steps"][1];
+  EXPECT_GT(inflated["apex_displacement_mm"][1].get<double>(), 0.05);
+  EXPECT_GT(inflated["aqueous_volume_mm3"].get<double>(), aqueous);
+  EXPECT_GT(inflated["vitreous_volume_mm3"].get<double>(), vitreous);
+
+  // Pressed: (d) each cavity conserves its own volume.
+  const auto& pressed = summary["steps"].back();
+  ASSERT_EQ(pressed["phase"], "press");
+  for (const char* c : {"aqueous", "vitreous"})
+  {
+    const std::string V = std::string(c) + "_volume_mm3", p = std::string(c) + "_pressure_mmHg";
+    const double change = pressed[V].get<double>() / inflated[V].get<double>() - 1;
+    std::printf("pressed: %s %.4f mmHg (from %.1f), volume change %.1e\n", c,
+                pressed[p].get<double>(), inflated[p].get<double>(), change);
+    EXPECT_LT(std::abs(change), 1e-10);
+    EXPECT_GT(pressed[p].get<double>(), inflated[p].get<double>() + 0.1);
+  }
+  EXPECT_LT(pressed["apex_displacement_mm"][1].get<double>(), 0.0); // pushed in
 }
 
 // The default scene end to end; its summary is compared across rank counts.

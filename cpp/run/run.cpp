@@ -39,7 +39,8 @@ std::string history(const std::vector<double>& residuals)
 nlohmann::json vec(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; }
 
 /// Quasi-static load ramps with step cutting: a failed step is retried at
-/// half the increment; after two successes the increment doubles back.
+/// half the increment, down to a floor; after two successes the increment
+/// doubles back.
 class Stepper
 {
 public:
@@ -58,8 +59,10 @@ public:
   {
     dolfinx::la::Vector<double> saved_x(*system.x);
     std::vector<double> saved_y = *system.y;
-    double reached = 0, increment = 1.0 / steps;
-    int consecutive_cuts = 0, successes = 0;
+    // The increment never falls below 2^-max_cuts of the nominal one.
+    const double nominal = 1.0 / steps, floor = std::ldexp(nominal, -_max_cuts);
+    double reached = 0, increment = nominal;
+    int successes = 0;
     while (reached < 1.0 - 1e-12)
     {
       const double target = std::min(1.0, reached + increment);
@@ -74,24 +77,23 @@ public:
         std::copy(saved_x.array().begin(), saved_x.array().end(),
                   system.x->mutable_array().begin());
         *system.y = saved_y;
+        if (increment / 2 < floor * (1 - 1e-12))
+          throw Diverged(format("phase '%s' diverged: load fraction %.6f (from %.6f) failed "
+                                "with the increment cut %d times (solver.max_step_cuts); "
+                                "last Newton: %s; residuals:%s",
+                                phase.c_str(), target, reached, _max_cuts,
+                                report.reason.c_str(), history(report.residuals).c_str()));
         ++cuts;
-        if (++consecutive_cuts > _max_cuts)
-          throw Diverged(format("phase '%s' diverged: load fraction %.6f failed after %d "
-                                "step cuts (solver.max_step_cuts); last Newton: %s; "
-                                "residuals:%s",
-                                phase.c_str(), target, _max_cuts, report.reason.c_str(),
-                                history(report.residuals).c_str()));
         increment /= 2;
         successes = 0;
         continue;
       }
       reached = target;
-      consecutive_cuts = 0;
       std::copy(system.x->array().begin(), system.x->array().end(),
                 saved_x.mutable_array().begin());
       saved_y = *system.y;
-      if (++successes >= 2 && increment < 1.0 / steps)
-        increment = std::min(2 * increment, 1.0 / steps), successes = 0;
+      if (++successes >= 2 && increment < nominal)
+        increment = std::min(2 * increment, nominal), successes = 0;
       done(reached, report);
     }
   }
@@ -219,19 +221,27 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
       const double t = MPI_Wtime();
       const int newton_before = stepper.newton_iterations;
       bool first = true;
-      // Inflate the current geometry to the IOP: a ramp from rest the first
-      // time, then one step from the last solution (the geometry moved little).
+      // Inflate the current geometry to the IOP: one Newton solve from the
+      // last solution (the geometry moved little), else a ramp from rest.
       auto pressurise = [&]
       {
         newton.reset();
-        if (first)
-          problem.u->x()->set(0.0);
-        stepper.ramp("zero-pressure inflation", first ? s.integer("inflate.steps") : 1,
-                     open.system(),
+        if (!first)
+        {
+          auto report = newton.solve(open.system(), settings);
+          stepper.newton_iterations += report.iterations;
+          if (report.converged)
+            return;
+          folder.log(format("  zero-pressure: Newton from the last solution failed (%s); "
+                            "inflating from rest",
+                            report.reason.c_str()));
+        }
+        first = false;
+        problem.u->x()->set(0.0);
+        stepper.ramp("zero-pressure inflation", s.integer("inflate.steps"), open.system(),
                      [&](double f)
                      { problem.set_cavity_pressures(std::vector<double>(n_cavities, f * iop)); },
                      [](double, const auto&) {});
-        first = false;
       };
       nlohmann::json& its = summary["zero_pressure_history"] = nlohmann::json::array();
       auto report = zero_pressure::solve(

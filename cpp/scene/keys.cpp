@@ -208,7 +208,8 @@ std::vector<Key> declare()
                "residual at least 4x (fewer factorisations); every_iteration = full Newton "
                "(quadratic convergence)"});
   k.push_back({"solver.max_step_cuts", K::integer, "8", "", 0, 30, {},
-               "times a failed load step may be halved before the run stops"});
+               "a failed load step is halved, down to 2^-max_step_cuts of the nominal step; "
+               "failing there stops the run"});
   k.push_back({"solver.petsc", K::options, "{}", "", -inf, inf, {},
                "PETSc options for the linear solver (default: MUMPS LU), e.g. "
                "ksp_type = \"cg\""});
