@@ -311,4 +311,23 @@ retag(const dolfinx::mesh::MeshTags<std::int32_t>& tags,
                                                std::move(values));
 }
 
+std::vector<std::array<double, 3>>
+combine_points(MPI_Comm comm, std::vector<double> sums,
+               const std::vector<std::array<double, 3>>& points)
+{
+  MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE,
+                MPI_SUM, comm);
+  std::vector<std::array<double, 3>> out(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    if (sums[4 * i + 3] == 0)
+      throw std::runtime_error("probe point (" + std::to_string(points[i][0]) + ", "
+                               + std::to_string(points[i][1]) + ", "
+                               + std::to_string(points[i][2]) + ") is outside the mesh");
+    for (int j = 0; j < 3; ++j)
+      out[i][j] = sums[4 * i + j] / sums[4 * i + 3];
+  }
+  return out;
+}
+
 } // namespace nct::meshio

@@ -67,4 +67,12 @@ dolfinx::mesh::MeshTags<std::int32_t>
 retag(const dolfinx::mesh::MeshTags<std::int32_t>& tags,
       const std::map<std::int32_t, std::int32_t>& map);
 
+/// Per-point values found on some ranks, combined on all: `sums` holds,
+/// per point, 3 values and a count (0 where this rank did not find it).
+/// Returns the mean over the ranks that found each point; throws for a
+/// point no rank found.
+std::vector<std::array<double, 3>>
+combine_points(MPI_Comm comm, std::vector<double> sums,
+               const std::vector<std::array<double, 3>>& points);
+
 } // namespace nct::meshio

@@ -322,20 +322,7 @@ Problem::displacement_at(const std::vector<std::array<double, 3>>& points) const
         sum[4 * i + j] = value[j];
       sum[4 * i + 3] = 1;
     }
-  MPI_Allreduce(MPI_IN_PLACE, sum.data(), static_cast<int>(sum.size()), MPI_DOUBLE,
-                MPI_SUM, mesh.comm());
-  std::vector<std::array<double, 3>> out(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i)
-  {
-    if (sum[4 * i + 3] == 0)
-      throw std::runtime_error("probe point (" + std::to_string(points[i][0]) + ", "
-                               + std::to_string(points[i][1]) + ", "
-                               + std::to_string(points[i][2])
-                               + ") is outside the mesh");
-    for (int j = 0; j < 3; ++j)
-      out[i][j] = sum[4 * i + j] / sum[4 * i + 3];
-  }
-  return out;
+  return meshio::combine_points(mesh.comm(), std::move(sum), points);
 }
 
 std::shared_ptr<const fem::FunctionSpace> Problem::coordinate_space() const
