@@ -109,18 +109,12 @@ private:
 };
 
 /// Write the mesh with the node coordinates `x` (geometry layout) to name.xdmf.
-void write_geometry(const io::RunFolder& folder, const dolfinx::mesh::Mesh& mesh_in,
+void write_geometry(const io::RunFolder& folder, const dolfinx::mesh::Mesh& mesh,
                     const std::vector<double>& x, const std::string& name)
 {
-  auto& mesh = const_cast<dolfinx::mesh::Mesh&>(mesh_in);
-  std::span<double> coords = mesh.geometry().x();
-  std::vector<double> now(coords.begin(), coords.end());
-  std::copy(x.begin(), x.end(), coords.begin());
-  {
-    dolfinx::io::XDMFFile file(mesh.comm(), folder.dir() / (name + ".xdmf"), "w");
-    file.write_mesh(mesh);
-  }
-  std::copy(now.begin(), now.end(), coords.begin());
+  zero_pressure::SwappedGeometry swapped(mesh, x);
+  dolfinx::io::XDMFFile file(mesh.comm(), folder.dir() / (name + ".xdmf"), "w");
+  file.write_mesh(mesh);
 }
 
 } // namespace
@@ -182,11 +176,13 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
   summary["dofs"] = problem.dofs();
   summary["degree"] = degree;
   summary["symmetry_factor"] = problem.symmetry_factor();
+  // Cavity volumes of the current geometry at u = 0, under `label`.
+  auto report_volumes = [&](const std::string& label)
   {
     auto volumes = problem.cavity_volumes();
     for (std::size_t c = 0; c < n_cavities; ++c)
-      summary[m.cavity_names[c] + "_volume_reference_mm3"] = volumes[c];
-  }
+      summary[m.cavity_names[c] + "_volume_" + label + "_mm3"] = volumes[c];
+  };
   nlohmann::json& steps = summary["steps"] = nlohmann::json::array();
   double t_output = 0;
   auto finish = [&](const std::string& status)
@@ -215,6 +211,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
                                        mesh->geometry().x().end());
     if (s.boolean("zero_pressure.enabled"))
     {
+      report_volumes("imaged");
       const zero_pressure::Settings zp{s.real("zero_pressure.tolerance"),
                                        s.integer("zero_pressure.max_iterations"),
                                        s.string("zero_pressure.acceleration") == "aitken"};
@@ -278,6 +275,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
       }
     }
 
+    report_volumes("reference");
     for (std::size_t i = 0; i < probes.size(); ++i)
       summary["probe_reference_mm"][m.probe_names[i]] = vec(probes[i]);
 
@@ -325,11 +323,13 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
         step[m.probe_names[i] + "_displacement_mm"] = vec(u[i]);
       steps.push_back(step);
       write_fields(time);
-      folder.log(format("step %3zu  %-7s %.4f  newton %2d  |R| %.2e  %s u %+.5f %+.5f "
-                        "%+.5f mm%s  wall %.2f s",
+      if (!u.empty())
+        text = format("  %s u %+.5f %+.5f %+.5f mm", m.probe_names[0].c_str(), u[0][0],
+                      u[0][1], u[0][2])
+               + text;
+      folder.log(format("step %3zu  %-7s %.4f  newton %2d  |R| %.2e%s  wall %.2f s",
                         steps.size(), phase.c_str(), fraction, report.iterations,
-                        report.residuals.back(), m.probe_names[0].c_str(), u[0][0],
-                        u[0][1], u[0][2], text.c_str(), MPI_Wtime() - t_step));
+                        report.residuals.back(), text.c_str(), MPI_Wtime() - t_step));
       t_step = MPI_Wtime();
     };
 
@@ -360,7 +360,10 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
       closed.emplace(problem, open_pressures);
       std::string text;
       for (std::size_t c = 0; c < n_cavities; ++c)
+      {
+        summary[m.cavity_names[c] + "_volume_closed_mm3"] = closed->targets()[c];
         text += format("  %s %.4f mm3", m.cavity_names[c].c_str(), closed->targets()[c]);
+      }
       folder.log("close: volumes held at" + text);
     }
 

@@ -269,6 +269,8 @@ std::vector<double> Problem::nodal_displacement() const
   {
     auto nodes = xdofs.links(c);
     auto d = dofs.cell_dofs(c);
+    if (nodes.size() != d.size())
+      throw std::runtime_error("nodal values need a linear (P1) mesh geometry");
     for (std::size_t i = 0; i < nodes.size(); ++i)
       for (int j = 0; j < 3; ++j)
         out[3 * nodes[i] + j] = w.x()->array()[3 * d[i] + j];

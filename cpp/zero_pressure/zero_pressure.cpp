@@ -39,6 +39,15 @@ std::array<double, 2> residual(const solid::Problem& problem,
 
 } // namespace
 
+SwappedGeometry::SwappedGeometry(const dolfinx::mesh::Mesh& mesh,
+                                 const std::vector<double>& x)
+    : _x(const_cast<dolfinx::mesh::Mesh&>(mesh).geometry().x()), _saved(_x.begin(), _x.end())
+{
+  std::copy(x.begin(), x.end(), _x.begin());
+}
+
+SwappedGeometry::~SwappedGeometry() { std::copy(_saved.begin(), _saved.end(), _x.begin()); }
+
 std::array<double, 2> mismatch(const solid::Problem& problem,
                                const std::vector<double>& x_imaged)
 {
@@ -98,21 +107,22 @@ Report solve(solid::Problem& problem, const Settings& settings,
   }
 }
 
-std::vector<std::array<double, 3>> carry(const dolfinx::mesh::Mesh& mesh_in,
+std::vector<std::array<double, 3>> carry(const dolfinx::mesh::Mesh& mesh,
                                          const std::vector<double>& x_from,
                                          const std::vector<std::array<double, 3>>& points)
 {
   // Locate the points in the x_from geometry (swapped in for the search).
-  auto& mesh = const_cast<dolfinx::mesh::Mesh&>(mesh_in);
-  std::span<double> x = mesh.geometry().x();
-  std::vector<double> x_now(x.begin(), x.end()), p;
-  std::copy(x_from.begin(), x_from.end(), x.begin());
+  std::span<const double> x = mesh.geometry().x();
+  std::vector<double> p;
   for (auto& q : points)
     p.insert(p.end(), q.begin(), q.end());
-  dolfinx::geometry::BoundingBoxTree tree(mesh, 3, 1e-8);
-  auto candidates = dolfinx::geometry::compute_collisions(tree, p);
-  auto cells = dolfinx::geometry::compute_colliding_cells(mesh, candidates, p);
-  std::copy(x_now.begin(), x_now.end(), x.begin());
+  dolfinx::graph::AdjacencyList<std::int32_t> cells(0);
+  {
+    SwappedGeometry from(mesh, x_from);
+    dolfinx::geometry::BoundingBoxTree tree(mesh, 3, 1e-8);
+    auto candidates = dolfinx::geometry::compute_collisions(tree, p);
+    cells = dolfinx::geometry::compute_colliding_cells(mesh, candidates, p);
+  }
 
   // Barycentric coordinates in x_from, then the same combination in x.
   const auto& dofmap = mesh.geometry().dofmap();

@@ -52,6 +52,21 @@ Report solve(solid::Problem& problem, const Settings& settings,
              const std::function<void()>& pressurise,
              const std::function<void(int, const Iteration&)>& progress);
 
+/// The mesh's node coordinates replaced by `x` (laid out as the
+/// geometry's x) for the lifetime of the object, then restored.
+class SwappedGeometry
+{
+public:
+  SwappedGeometry(const dolfinx::mesh::Mesh& mesh, const std::vector<double>& x);
+  ~SwappedGeometry();
+  SwappedGeometry(const SwappedGeometry&) = delete;
+  SwappedGeometry& operator=(const SwappedGeometry&) = delete;
+
+private:
+  std::span<double> _x;
+  std::vector<double> _saved;
+};
+
 /// Max and rms distance [mm] between the geometry nodes pressurised by
 /// problem.u, X + u(X), and `x_imaged` (laid out as the geometry's x).
 std::array<double, 2> mismatch(const solid::Problem& problem,
