@@ -1,0 +1,183 @@
+#include "biomarkers/biomarkers.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <stdexcept>
+
+namespace nct::biomarkers
+{
+namespace
+{
+
+/// Index i with x[i] <= v < x[i+1], clamped to the ends.
+std::size_t interval(const std::vector<double>& x, double v)
+{
+  auto it = std::upper_bound(x.begin(), x.end(), v);
+  std::size_t i = it == x.begin() ? 0 : static_cast<std::size_t>(it - x.begin()) - 1;
+  return std::min(i, x.size() - 2);
+}
+
+double interpolate(const std::vector<double>& x, const std::vector<double>& y, double v)
+{
+  if (x.size() < 2 || x.size() != y.size())
+    throw std::invalid_argument("biomarkers: need at least two samples of equal count");
+  const std::size_t i = interval(x, v);
+  const double s = (v - x[i]) / (x[i + 1] - x[i]);
+  return (1 - s) * y[i] + s * y[i + 1];
+}
+
+/// Vertex (position, value) of the parabola through samples i-1, i, i+1
+/// of (x, y); the sample itself at the ends or if the three are collinear.
+std::pair<double, double> vertex(const std::vector<double>& x, const std::vector<double>& y,
+                                 std::size_t i)
+{
+  if (i == 0 || i + 1 == x.size())
+    return {x[i], y[i]};
+  const double x0 = x[i - 1], x1 = x[i], x2 = x[i + 1];
+  const double y0 = y[i - 1], y1 = y[i], y2 = y[i + 1];
+  const double d = (x0 - x1) * (x0 - x2) * (x1 - x2);
+  const double a = (x2 * (y1 - y0) + x1 * (y0 - y2) + x0 * (y2 - y1)) / d;
+  const double b = (x2 * x2 * (y0 - y1) + x1 * x1 * (y2 - y0) + x0 * x0 * (y1 - y2)) / d;
+  if (a == 0)
+    return {x1, y1};
+  const double xv = std::clamp(-b / (2 * a), x0, x2);
+  const double c = y1 - a * x1 * x1 - b * x1;
+  return {xv, a * xv * xv + b * xv + c};
+}
+
+/// Position of the maximum of y over the samples with `keep(x)`, refined
+/// by the parabola through the best sample and its two neighbours.
+double highest(const Profile& p, bool (*keep)(double))
+{
+  std::size_t best = p.x.size();
+  for (std::size_t i = 0; i < p.x.size(); ++i)
+    if (keep(p.x[i]) && (best == p.x.size() || p.y[i] > p.y[best]))
+      best = i;
+  if (best == p.x.size())
+    throw std::invalid_argument("biomarkers: the profile has no samples on one side");
+  return vertex(p.x, p.y, best).first;
+}
+
+} // namespace
+
+double height(const Profile& p, double x) { return interpolate(p.x, p.y, x); }
+
+double flat_length(const Profile& p, double tolerance)
+{
+  const double y0 = height(p, 0.0);
+  auto flat = [&](std::size_t i) { return std::abs(p.y[i] - y0) <= tolerance; };
+  // Walk out from the axis on each side to the first sample off the flat,
+  // then interpolate where |y - y0| reaches the tolerance.
+  auto end = [&](int direction)
+  {
+    const std::size_t first = interval(p.x, 0.0) + (direction > 0 ? 1 : 0);
+    double inner_x = 0.0, inner_dy = 0.0;
+    for (std::size_t i = first; i < p.x.size(); i += direction)
+    {
+      const double dy = std::abs(p.y[i] - y0);
+      if (!flat(i))
+        return inner_x + (p.x[i] - inner_x) * (tolerance - inner_dy) / (dy - inner_dy);
+      inner_x = p.x[i], inner_dy = dy;
+      if (i == 0)
+        break;
+    }
+    return inner_x; // flat to the end of the samples
+  };
+  return end(+1) - end(-1);
+}
+
+double peak_distance(const Profile& p)
+{
+  return highest(p, [](double x) { return x > 0; }) - highest(p, [](double x) { return x < 0; });
+}
+
+double apex_curvature(const Profile& p, double half_width)
+{
+  // Least squares for y = a + b s with s = x^2.
+  double n = 0, S = 0, SS = 0, Y = 0, SY = 0;
+  for (std::size_t i = 0; i < p.x.size(); ++i)
+    if (std::abs(p.x[i]) <= half_width)
+    {
+      const double s = p.x[i] * p.x[i];
+      n += 1, S += s, SS += s * s, Y += p.y[i], SY += s * p.y[i];
+    }
+  const double det = n * SS - S * S;
+  if (n < 3 || det <= 0)
+    throw std::invalid_argument("biomarkers: fewer than three profile samples within the "
+                                "apex window");
+  return (n * SY - S * Y) / det;
+}
+
+std::vector<double> crossings(const std::vector<double>& t, const std::vector<double>& f,
+                              bool upward)
+{
+  std::vector<double> times;
+  for (std::size_t i = 0; i + 1 < t.size(); ++i)
+  {
+    const bool crosses = upward ? f[i] < 0 && f[i + 1] >= 0 : f[i] > 0 && f[i + 1] <= 0;
+    if (crosses)
+      times.push_back(t[i] + (t[i + 1] - t[i]) * f[i] / (f[i] - f[i + 1]));
+  }
+  return times;
+}
+
+double at_time(const std::vector<double>& t, const std::vector<double>& f, double time)
+{
+  return interpolate(t, f, time);
+}
+
+Result analyse(const std::vector<double>& t, const std::vector<Profile>& anterior,
+               const std::vector<double>& apex_displacement,
+               const std::vector<double>& whole_eye_motion, double half_width,
+               double flatness)
+{
+  const std::size_t n = t.size();
+  if (n < 3 || anterior.size() != n || apex_displacement.size() != n
+      || whole_eye_motion.size() != n)
+    throw std::invalid_argument("biomarkers: the time series differ in length or are "
+                                "shorter than 3 frames");
+  Result r;
+  // HC: the deepest apex, refined between frames by a parabola.
+  const std::size_t hc = static_cast<std::size_t>(
+      std::min_element(apex_displacement.begin(), apex_displacement.end())
+      - apex_displacement.begin());
+  const auto [hc_time, deepest] = vertex(t, apex_displacement, hc);
+  r.hc_time = hc_time;
+  r.deformation_amplitude = -deepest;
+  r.deflection_amplitude = -(deepest - at_time(t, whole_eye_motion, hc_time));
+  r.peak_distance = peak_distance(anterior[hc]);
+
+  // Apex velocity by central differences (one-sided at the ends).
+  std::vector<double> velocity(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const std::size_t a = i == 0 ? 0 : i - 1, b = i + 1 == n ? i : i + 1;
+    velocity[i] = (apex_displacement[b] - apex_displacement[a]) / (t[b] - t[a]);
+  }
+  std::vector<double> curvature(n);
+  for (std::size_t i = 0; i < n; ++i)
+    curvature[i] = apex_curvature(anterior[i], half_width);
+  auto applanation = [&](double time)
+  {
+    // The profile at `time`: linear between the neighbouring frames.
+    const std::size_t i = interval(t, time);
+    const double s = (time - t[i]) / (t[i + 1] - t[i]);
+    Profile p = anterior[i];
+    for (std::size_t k = 0; k < p.y.size(); ++k)
+      p.y[k] = (1 - s) * anterior[i].y[k] + s * anterior[i + 1].y[k];
+    return Applanation{time, flat_length(p, flatness), at_time(t, velocity, time)};
+  };
+  const auto in = crossings(t, curvature, true), out = crossings(t, curvature, false);
+  auto a1 = std::find_if(in.begin(), in.end(), [&](double x) { return x <= r.hc_time; });
+  auto a2 = std::find_if(out.begin(), out.end(), [&](double x) { return x >= r.hc_time; });
+  r.applanated = a1 != in.end() && a2 != out.end();
+  if (r.applanated)
+  {
+    r.a1 = applanation(*a1);
+    r.a2 = applanation(*a2);
+  }
+  return r;
+}
+
+} // namespace nct::biomarkers
