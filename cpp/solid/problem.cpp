@@ -109,6 +109,8 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
   u->name = "displacement";
   von_mises = std::make_shared<fem::Function<double>>(Q0);
   von_mises->name = "von_mises_stress";
+  _coordinate_space = std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(functionspace_form_solid_p1_full_R, "u", m.mesh));
   surface_profile = std::make_shared<fem::Function<double>>(
       std::make_shared<fem::FunctionSpace>(
           fem::create_functionspace(k.space, "surface_profile", m.mesh)));
@@ -255,7 +257,7 @@ void Problem::volume_derivative(std::size_t c, la::Vector<double>& b)
 
 std::vector<double> Problem::nodal_displacement() const
 {
-  auto P1 = coordinate_space();
+  auto P1 = _coordinate_space;
   fem::Function<double> w(P1);
   w.interpolate(*u);
   w.x()->scatter_fwd();
@@ -327,12 +329,6 @@ Problem::displacement_at(const std::vector<std::array<double, 3>>& points) const
   return meshio::combine_points(mesh.comm(), std::move(sum), points);
 }
 
-std::shared_ptr<const fem::FunctionSpace> Problem::coordinate_space() const
-{
-  auto mesh = std::const_pointer_cast<mesh::Mesh>(u->function_space()->mesh());
-  return std::make_shared<fem::FunctionSpace>(
-      fem::create_functionspace(functionspace_form_solid_p1_full_R, "u", mesh));
-}
 
 void Problem::update_von_mises() { von_mises->interpolate(*_von_mises); }
 

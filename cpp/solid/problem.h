@@ -76,7 +76,10 @@ public:
   std::vector<std::array<double, 3>>
   displacement_at(const std::vector<std::array<double, 3>>& points) const;
   /// Vector P1 space: the mesh's coordinate element, for output.
-  std::shared_ptr<const dolfinx::fem::FunctionSpace> coordinate_space() const;
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> coordinate_space() const
+  {
+    return _coordinate_space;
+  }
   /// Von Mises stress per cell (for output).
   void update_von_mises();
 
@@ -89,6 +92,7 @@ public:
 
 private:
   std::shared_ptr<dolfinx::fem::Form<double>> _R, _J;
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> _coordinate_space; ///< vector P1
   /// Per cavity: volume, unit-pressure load, volume derivative.
   std::vector<std::shared_ptr<dolfinx::fem::Form<double>>> _volumes, _cavity_loads,
       _dvolumes;
