@@ -24,6 +24,7 @@ from ufl import (Coefficient, Constant, FacetNormal, FiniteElement, Measure,
                  diff, inner, grad, sqrt, tetrahedron, tr, Identity)
 
 import cavity
+import dynamics
 import hgo
 import kinematics
 import linear_elastic
@@ -62,19 +63,27 @@ surface_profile = Coefficient(nodal_scalar)  # shape f of the surface pressure [
 dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
 ds = Measure("ds", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
 
-F = kinematics.deformation_gradient(u)
 N = FacetNormal(tetrahedron)
 
+
+def balance(w):
+    """Internal work and pressure loads at the displacement (expression) w."""
+    Fw = kinematics.deformation_gradient(w)
+    return (inner(diff(hgo.energy(Fw, c10, k1, k2, kappa, fibre_1, fibre_2), Fw), grad(v)) * dx(HGO)
+            + inner(diff(neo_hookean.energy(Fw, c10, kappa), Fw), grad(v)) * dx(NEO_HOOKEAN)
+            + inner(diff(linear_elastic.energy(Fw, youngs_modulus, poisson_ratio), Fw), grad(v))
+            * dx(LINEAR_ELASTIC)
+            + cavity.follower_pressure(p_cavity_1, Fw, N, v) * ds(CAVITY_1_WALL)
+            + cavity.follower_pressure(p_cavity_2, Fw, N, v) * ds(CAVITY_2_WALL)
+            + cavity.follower_pressure(p_surface * surface_profile, Fw, N, v) * ds(SURFACE_LOAD))
+
+
+F = kinematics.deformation_gradient(u)
 psi_hgo = hgo.energy(F, c10, k1, k2, kappa, fibre_1, fibre_2)
 psi_neo_hookean = neo_hookean.energy(F, c10, kappa)
 psi_linear_elastic = linear_elastic.energy(F, youngs_modulus, poisson_ratio)
 
-R = (inner(diff(psi_hgo, F), grad(v)) * dx(HGO)
-     + inner(diff(psi_neo_hookean, F), grad(v)) * dx(NEO_HOOKEAN)
-     + inner(diff(psi_linear_elastic, F), grad(v)) * dx(LINEAR_ELASTIC)
-     + cavity.follower_pressure(p_cavity_1, F, N, v) * ds(CAVITY_1_WALL)
-     + cavity.follower_pressure(p_cavity_2, F, N, v) * ds(CAVITY_2_WALL)
-     + cavity.follower_pressure(p_surface * surface_profile, F, N, v) * ds(SURFACE_LOAD))
+R = balance(u)
 J = derivative(R, u, du)
 
 # Enclosed cavity volumes (quarter model, no symmetry factor) about x0.
@@ -99,5 +108,38 @@ sigma = kinematics.cauchy_stress(P, F)
 s = sigma - tr(sigma) / 3.0 * Identity(3)
 von_mises = sqrt(1.5 * inner(s, s))
 
-forms = [R, J, volume_1, volume_2, cavity_load_1, cavity_load_2, dvolume_1, dvolume_2]
+# Dynamics (generalised alpha, forms/dynamics.py): the balance at
+# u_{n+1-alpha_f} plus inertia and mass-proportional damping,
+# rho (a_{n+1-alpha_m} + damping v_{n+1-alpha_f}) . v. The mass is
+# integrated exactly (degree 2 degree) whatever the cell quadrature.
+u_old = Coefficient(element)        # u_n [mm]
+v_old = Coefficient(element)        # v_n [mm/ms]
+a_old = Coefficient(element)        # a_n [mm/ms^2]
+density = Coefficient(cell_scalar)  # [g/mm^3]
+dt = Constant(tetrahedron)          # [ms]
+alpha_m = Constant(tetrahedron)
+alpha_f = Constant(tetrahedron)
+beta = Constant(tetrahedron)
+gamma = Constant(tetrahedron)
+damping = Constant(tetrahedron)     # mass-proportional [1/ms]
+dx_mass = Measure("dx", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
+
+a_new = dynamics.acceleration(u, u_old, v_old, a_old, dt, beta)
+v_new = dynamics.velocity(a_new, v_old, a_old, dt, gamma)
+u_mid = dynamics.level(u, u_old, alpha_f)
+R_dynamic = (density * inner(dynamics.level(a_new, a_old, alpha_m)
+                             + damping * dynamics.level(v_new, v_old, alpha_f), v) * dx_mass
+             + balance(u_mid))
+J_dynamic = derivative(R_dynamic, u, du)
+F_mid = kinematics.deformation_gradient(u_mid)
+cavity_load_dynamic_1 = cavity.follower_pressure(1.0, F_mid, N, v) * ds(CAVITY_1_WALL)
+cavity_load_dynamic_2 = cavity.follower_pressure(1.0, F_mid, N, v) * ds(CAVITY_2_WALL)
+
+# Energies (for checks): stored in the solid at u, kinetic at v_n.
+strain_energy = psi_hgo * dx(HGO) + psi_neo_hookean * dx(NEO_HOOKEAN) + psi_linear_elastic * dx(LINEAR_ELASTIC)
+kinetic_energy = 0.5 * density * inner(v_old, v_old) * dx_mass
+
+forms = [R, J, volume_1, volume_2, cavity_load_1, cavity_load_2, dvolume_1, dvolume_2,
+         R_dynamic, J_dynamic, cavity_load_dynamic_1, cavity_load_dynamic_2,
+         strain_energy, kinetic_energy]
 expressions = [(von_mises, [[0.25, 0.25, 0.25]])]

@@ -39,6 +39,8 @@ void add_material(std::vector<Key>& keys, const std::string& part,
                   1e5, {}, "Young's modulus E (linear_elastic)"});
   keys.push_back({m + "poisson_ratio", K::real, d.poisson_ratio, "", 0, 0.499, {},
                   "Poisson's ratio nu (linear_elastic)"});
+  keys.push_back({m + "density", K::real, "0.0011", "g/mm^3", 1e-9, 1e3, {},
+                  "mass density (dynamic phases)"});
   if (!fibres_from_geometry)
     keys.push_back({m + "fibre_directions", K::points, "[]", "", -inf, inf, {},
                     "up to two constant fibre directions (hgo), normalised on "

@@ -21,6 +21,7 @@ Material read_material(const scene::Scene& s, const std::string& part)
                s.real(m + "kappa"),
                s.real(m + "youngs_modulus"),
                s.real(m + "poisson_ratio"),
+               s.real(m + "density"),
                {}};
   if (s.has(m + "fibre_directions"))
     mat.fibre_directions = s.points(m + "fibre_directions");
@@ -37,7 +38,7 @@ CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
   using dolfinx::fem::Function;
   CellFields f;
   for (const char* name : {"c10", "k1", "k2", "kappa", "youngs_modulus",
-                           "poisson_ratio", "is_hgo", "is_neo_hookean",
+                           "poisson_ratio", "density", "is_hgo", "is_neo_hookean",
                            "is_linear_elastic"})
     f[name] = std::make_shared<Function<double>>(scalar);
   for (const char* name : {"fibre_1", "fibre_2"})
@@ -73,6 +74,7 @@ CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
     f["kappa"]->x()->mutable_array()[d] = m.kappa;
     f["youngs_modulus"]->x()->mutable_array()[d] = m.youngs_modulus;
     f["poisson_ratio"]->x()->mutable_array()[d] = m.poisson_ratio;
+    f["density"]->x()->mutable_array()[d] = m.density;
     f["is_hgo"]->x()->mutable_array()[d] = hgo;
     f["is_neo_hookean"]->x()->mutable_array()[d] = m.law == Law::neo_hookean;
     f["is_linear_elastic"]->x()->mutable_array()[d] = m.law == Law::linear_elastic;

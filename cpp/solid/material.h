@@ -32,6 +32,7 @@ struct Material
 {
   Law law;
   double c10, k1, k2, kappa, youngs_modulus, poisson_ratio;
+  double density; ///< [g/mm^3]
   std::vector<std::array<double, 3>> fibre_directions; ///< file meshes only
 };
 

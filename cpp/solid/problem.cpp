@@ -27,7 +27,11 @@ struct Kernels
 {
   ufcx_form* R;
   ufcx_form* J;
-  std::array<ufcx_form*, 2> volumes, cavity_loads, dvolumes;
+  std::array<ufcx_form*, 2> volumes, cavity_loads, dvolumes, cavity_loads_dynamic;
+  ufcx_form* R_dynamic;
+  ufcx_form* J_dynamic;
+  ufcx_form* strain_energy;
+  ufcx_form* kinetic_energy;
   ufcx_expression* von_mises;
   ufcx_function_space* (*space)(const char*);
 };
@@ -37,6 +41,10 @@ struct Kernels
           {form_solid_##v##_volume_1, form_solid_##v##_volume_2},                 \
           {form_solid_##v##_cavity_load_1, form_solid_##v##_cavity_load_2},       \
           {form_solid_##v##_dvolume_1, form_solid_##v##_dvolume_2},               \
+          {form_solid_##v##_cavity_load_dynamic_1,                                \
+           form_solid_##v##_cavity_load_dynamic_2},                               \
+          form_solid_##v##_R_dynamic, form_solid_##v##_J_dynamic,                 \
+          form_solid_##v##_strain_energy, form_solid_##v##_kinetic_energy,         \
           expression_solid_##v##_von_mises, functionspace_form_solid_##v##_R}
 
 Kernels kernels(int degree, bool reduced)
@@ -140,14 +148,26 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
   _x0 = std::make_shared<fem::Constant<double>>(
       std::vector<double>(volume_origin.begin(), volume_origin.end()));
 
+  u_old = std::make_shared<fem::Function<double>>(V);
+  v_old = std::make_shared<fem::Function<double>>(V);
+  v_old->name = "velocity";
+  a_old = std::make_shared<fem::Function<double>>(V);
+  for (const char* name : {"dt", "alpha_m", "alpha_f", "beta", "gamma", "damping"})
+    _time[name] = std::make_shared<fem::Constant<double>>(0.0);
+
   std::map<std::string, std::shared_ptr<const fem::Function<double>>> coeffs;
   coeffs["u"] = u;
+  coeffs["u_old"] = u_old;
+  coeffs["v_old"] = v_old;
+  coeffs["a_old"] = a_old;
   coeffs["surface_profile"] = surface_profile;
   for (auto& [name, f] : fields)
     coeffs[name] = f;
   const std::map<std::string, std::shared_ptr<const fem::Constant<double>>> loads
       = {{"p_cavity_1", _p_cavities[0]}, {"p_cavity_2", _p_cavities[1]},
          {"p_surface", _p_surface}};
+  auto constants = loads;
+  constants.insert(_time.begin(), _time.end());
   const std::map<fem::IntegralType, const mesh::MeshTags<int>*> subdomains
       = {{fem::IntegralType::cell, _law_tags.get()},
          {fem::IntegralType::exterior_facet, _load_tags.get()}};
@@ -162,6 +182,14 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
       fem::create_form<double>(*k.R, {V}, pick(*k.R), loads, subdomains));
   _J = std::make_shared<fem::Form<double>>(
       fem::create_form<double>(*k.J, {V, V}, pick(*k.J), loads, subdomains));
+  _R_dynamic = std::make_shared<fem::Form<double>>(
+      fem::create_form<double>(*k.R_dynamic, {V}, pick(*k.R_dynamic), constants, subdomains));
+  _J_dynamic = std::make_shared<fem::Form<double>>(fem::create_form<double>(
+      *k.J_dynamic, {V, V}, pick(*k.J_dynamic), constants, subdomains));
+  _strain_energy = std::make_shared<fem::Form<double>>(fem::create_form<double>(
+      *k.strain_energy, {}, pick(*k.strain_energy), {}, subdomains, m.mesh));
+  _kinetic_energy = std::make_shared<fem::Form<double>>(fem::create_form<double>(
+      *k.kinetic_energy, {}, pick(*k.kinetic_energy), {}, subdomains, m.mesh));
   for (std::size_t c = 0; c < boundaries.cavities.size(); ++c)
   {
     _volumes.push_back(std::make_shared<fem::Form<double>>(fem::create_form<double>(
@@ -170,6 +198,10 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
         *k.cavity_loads[c], {V}, pick(*k.cavity_loads[c]), {}, subdomains)));
     _dvolumes.push_back(std::make_shared<fem::Form<double>>(fem::create_form<double>(
         *k.dvolumes[c], {V}, pick(*k.dvolumes[c]), {{"x0", _x0}}, subdomains)));
+    _cavity_loads_dynamic.push_back(std::make_shared<fem::Form<double>>(
+        fem::create_form<double>(*k.cavity_loads_dynamic[c], {V},
+                                 pick(*k.cavity_loads_dynamic[c]), {{"alpha_f", _time["alpha_f"]}},
+                                 subdomains)));
   }
   _von_mises = std::make_shared<fem::Expression<double>>(
       fem::create_expression<double>(*k.von_mises, coeffs, {}, m.mesh));
@@ -223,7 +255,7 @@ void Problem::set_surface_profile(
 void Problem::residual(la::Vector<double>& b)
 {
   std::fill(b.mutable_array().begin(), b.mutable_array().end(), 0.0);
-  fem::assemble_vector<double>(b.mutable_array(), *_R);
+  fem::assemble_vector<double>(b.mutable_array(), _dynamic ? *_R_dynamic : *_R);
   b.scatter_rev(std::plus<double>());
   fem::set_bc<double>(b.mutable_array(), _bcs, u->x()->array(), -1.0);
 }
@@ -231,11 +263,12 @@ void Problem::residual(la::Vector<double>& b)
 void Problem::jacobian(Mat A)
 {
   MatZeroEntries(A);
-  fem::assemble_matrix(la::petsc::Matrix::set_block_fn(A, ADD_VALUES), *_J, _bcs);
+  const auto& J = _dynamic ? *_J_dynamic : *_J;
+  fem::assemble_matrix(la::petsc::Matrix::set_block_fn(A, ADD_VALUES), J, _bcs);
   MatAssemblyBegin(A, MAT_FLUSH_ASSEMBLY);
   MatAssemblyEnd(A, MAT_FLUSH_ASSEMBLY);
   fem::set_diagonal<double>(la::petsc::Matrix::set_fn(A, INSERT_VALUES),
-                            *_J->function_spaces()[0], _bcs);
+                            *J.function_spaces()[0], _bcs);
   MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
   MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
 }
@@ -243,7 +276,8 @@ void Problem::jacobian(Mat A)
 void Problem::cavity_load(std::size_t c, la::Vector<double>& b)
 {
   std::fill(b.mutable_array().begin(), b.mutable_array().end(), 0.0);
-  fem::assemble_vector<double>(b.mutable_array(), *_cavity_loads.at(c));
+  fem::assemble_vector<double>(b.mutable_array(),
+                               _dynamic ? *_cavity_loads_dynamic.at(c) : *_cavity_loads.at(c));
   b.scatter_rev(std::plus<double>());
   fem::set_bc<double>(b.mutable_array(), _bcs, 0.0);
 }
@@ -253,6 +287,62 @@ void Problem::volume_derivative(std::size_t c, la::Vector<double>& b)
   std::fill(b.mutable_array().begin(), b.mutable_array().end(), 0.0);
   fem::assemble_vector<double>(b.mutable_array(), *_dvolumes.at(c));
   b.scatter_rev(std::plus<double>());
+}
+
+void Problem::set_time_step(const TimeStep& step)
+{
+  // forms/dynamics.py: the parameters from the spectral radius rho_inf.
+  const double r = step.rho_inf;
+  const double am = (2 * r - 1) / (r + 1), af = r / (r + 1);
+  _time["dt"]->value = {step.dt};
+  _time["alpha_m"]->value = {am};
+  _time["alpha_f"]->value = {af};
+  _time["gamma"]->value = {0.5 - am + af};
+  _time["beta"]->value = {0.25 * (1 - am + af) * (1 - am + af)};
+  _time["damping"]->value = {step.damping};
+}
+
+void Problem::start_dynamics(const TimeStep& step)
+{
+  set_time_step(step);
+  std::copy(u->x()->array().begin(), u->x()->array().end(),
+            u_old->x()->mutable_array().begin());
+  v_old->x()->set(0.0);
+  a_old->x()->set(0.0);
+  _dynamic = true;
+}
+
+void Problem::advance()
+{
+  const double dt = _time["dt"]->value[0], beta = _time["beta"]->value[0],
+               gamma = _time["gamma"]->value[0];
+  auto un = u->x()->array();
+  auto uo = u_old->x()->mutable_array(), vo = v_old->x()->mutable_array(),
+       ao = a_old->x()->mutable_array();
+  for (std::size_t i = 0; i < un.size(); ++i)
+  {
+    const double a = (un[i] - uo[i] - dt * vo[i]) / (beta * dt * dt)
+                     - (1 - 2 * beta) / (2 * beta) * ao[i];
+    vo[i] += dt * ((1 - gamma) * ao[i] + gamma * a);
+    ao[i] = a;
+    uo[i] = un[i];
+  }
+}
+
+double Problem::load_level() const { return _dynamic ? 1 - _time.at("alpha_f")->value[0] : 1.0; }
+
+double Problem::strain_energy() const
+{
+  double e = fem::assemble_scalar(*_strain_energy);
+  MPI_Allreduce(MPI_IN_PLACE, &e, 1, MPI_DOUBLE, MPI_SUM, u->function_space()->mesh()->comm());
+  return e * _symmetry_factor;
+}
+
+double Problem::kinetic_energy() const
+{
+  double e = fem::assemble_scalar(*_kinetic_energy);
+  MPI_Allreduce(MPI_IN_PLACE, &e, 1, MPI_DOUBLE, MPI_SUM, u->function_space()->mesh()->comm());
+  return e * _symmetry_factor;
 }
 
 std::vector<double> Problem::nodal_displacement() const

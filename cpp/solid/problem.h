@@ -30,7 +30,17 @@ struct Boundaries
   std::vector<std::int32_t> surface_load; ///< the surface pressure acts here
 };
 
+/// A time step of the generalised-alpha scheme (forms/dynamics.py).
+struct TimeStep
+{
+  double dt = 0.1;      ///< [ms]
+  double rho_inf = 0.8; ///< spectral radius at infinite frequency, in [0, 1]
+  double damping = 0;   ///< mass-proportional damping [1/ms]
+};
+
 /// Residual, Jacobian and derived quantities of the solid at the current u.
+/// Quasi-static until start_dynamics(); then each residual is the
+/// generalised-alpha balance of the step from (u_old, v_old, a_old) to u.
 class Problem
 {
 public:
@@ -68,6 +78,21 @@ public:
   /// b = dV_c/du of the meshed part of cavity c (no symmetry factor).
   void volume_derivative(std::size_t c, dolfinx::la::Vector<double>& b);
 
+  /// Switch to dynamics from rest at the current u (v = a = 0).
+  void start_dynamics(const TimeStep& step);
+  /// Change the time step (dynamics only).
+  void set_time_step(const TimeStep& step);
+  /// After a converged step: a and v from the Newmark updates, then the
+  /// new state becomes the old one.
+  void advance();
+  /// Time of the loads within the step, as a fraction from t_n to t_{n+1}
+  /// (1 - alpha_f; 1 when quasi-static): loads are set at that time.
+  double load_level() const;
+  /// Stored energy at u and kinetic energy at v_old [N mm = mJ], whole model
+  /// (times the symmetry factor).
+  double strain_energy() const;
+  double kinetic_energy() const;
+
   /// Displacement at the mesh's geometry nodes, laid out as geometry().x().
   std::vector<double> nodal_displacement() const;
   /// Lay the fibres again on the current reference geometry (after it moved).
@@ -86,16 +111,22 @@ public:
   std::shared_ptr<dolfinx::fem::Function<double>> u;          ///< displacement [mm]
   std::shared_ptr<dolfinx::fem::Function<double>> von_mises;  ///< [MPa], DG0
   std::shared_ptr<dolfinx::fem::Function<double>> surface_profile; ///< [-], P1
+  /// The last converged state, in dynamics: u_n, v_n [mm/ms], a_n [mm/ms^2]
+  std::shared_ptr<dolfinx::fem::Function<double>> u_old, v_old, a_old;
   CellFields fields;                                          ///< materials and fibres
   std::int64_t dofs() const;
   int symmetry_factor() const { return _symmetry_factor; }
 
 private:
-  std::shared_ptr<dolfinx::fem::Form<double>> _R, _J;
+  std::shared_ptr<dolfinx::fem::Form<double>> _R, _J, _R_dynamic, _J_dynamic,
+      _strain_energy, _kinetic_energy;
+  bool _dynamic = false;
+  /// dt, alpha_m, alpha_f, beta, gamma, damping
+  std::map<std::string, std::shared_ptr<dolfinx::fem::Constant<double>>> _time;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _coordinate_space; ///< vector P1
   /// Per cavity: volume, unit-pressure load, volume derivative.
   std::vector<std::shared_ptr<dolfinx::fem::Form<double>>> _volumes, _cavity_loads,
-      _dvolumes;
+      _dvolumes, _cavity_loads_dynamic;
   std::shared_ptr<dolfinx::fem::Expression<double>> _von_mises;
   std::vector<std::shared_ptr<dolfinx::fem::Constant<double>>> _p_cavities;
   std::shared_ptr<dolfinx::fem::Constant<double>> _p_surface, _x0;
