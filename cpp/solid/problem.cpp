@@ -331,19 +331,22 @@ void Problem::advance()
 
 double Problem::load_level() const { return _dynamic ? 1 - _time.at("alpha_f")->value[0] : 1.0; }
 
-double Problem::strain_energy() const
+std::vector<double>
+Problem::whole_model(const std::vector<std::shared_ptr<fem::Form<double>>>& forms) const
 {
-  double e = fem::assemble_scalar(*_strain_energy);
-  MPI_Allreduce(MPI_IN_PLACE, &e, 1, MPI_DOUBLE, MPI_SUM, u->function_space()->mesh()->comm());
-  return e * _symmetry_factor;
+  std::vector<double> v;
+  for (auto& form : forms)
+    v.push_back(fem::assemble_scalar(*form));
+  MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM,
+                u->function_space()->mesh()->comm());
+  for (double& x : v)
+    x *= _symmetry_factor;
+  return v;
 }
 
-double Problem::kinetic_energy() const
-{
-  double e = fem::assemble_scalar(*_kinetic_energy);
-  MPI_Allreduce(MPI_IN_PLACE, &e, 1, MPI_DOUBLE, MPI_SUM, u->function_space()->mesh()->comm());
-  return e * _symmetry_factor;
-}
+double Problem::strain_energy() const { return whole_model({_strain_energy})[0]; }
+
+double Problem::kinetic_energy() const { return whole_model({_kinetic_energy})[0]; }
 
 std::vector<double> Problem::nodal_displacement() const
 {
@@ -382,17 +385,7 @@ void Problem::update_fibres()
 
 Mat Problem::create_matrix() const { return fem::petsc::create_matrix(*_J, "aij"); }
 
-std::vector<double> Problem::cavity_volumes() const
-{
-  std::vector<double> v;
-  for (auto& form : _volumes)
-    v.push_back(fem::assemble_scalar(*form));
-  MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM,
-                u->function_space()->mesh()->comm());
-  for (double& x : v)
-    x *= _symmetry_factor;
-  return v;
-}
+std::vector<double> Problem::cavity_volumes() const { return whole_model(_volumes); }
 
 std::vector<std::array<double, 3>>
 Problem::displacement_at(const std::vector<std::array<double, 3>>& points) const

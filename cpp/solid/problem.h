@@ -118,6 +118,10 @@ public:
   int symmetry_factor() const { return _symmetry_factor; }
 
 private:
+  /// Scalar forms summed over the ranks, times the symmetry factor.
+  std::vector<double>
+  whole_model(const std::vector<std::shared_ptr<dolfinx::fem::Form<double>>>& forms) const;
+
   std::shared_ptr<dolfinx::fem::Form<double>> _R, _J, _R_dynamic, _J_dynamic,
       _strain_energy, _kinetic_energy;
   bool _dynamic = false;

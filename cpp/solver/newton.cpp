@@ -114,12 +114,12 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
       r2 += gi * gi;
     return std::sqrt(r2);
   };
-  // dx . R + dy . G at the current state: the line search's slope.
-  auto slope = [&]
+  // dx . R + dy . G: the line search's slope.
+  auto slope = [&](const Vector& r, const std::vector<double>& c)
   {
-    double s = dot(dx, b);
+    double s = dot(dx, r);
     for (std::size_t i = 0; i < ny; ++i)
-      s += dy[i] * g[i];
+      s += dy[i] * c[i];
     return s;
   };
   auto linear_solve = [&](Vec rhs, Vec sol)
@@ -223,10 +223,8 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
       r_new = take(alpha /= 2);
     if (settings.line_search && std::isfinite(r_new))
     {
-      double s0 = dot(dx, b_start);
-      for (std::size_t i = 0; i < ny; ++i)
-        s0 += dy[i] * g_start[i];
-      double s = slope();
+      const double s0 = slope(b_start, g_start);
+      double s = slope(b, g);
       bool at_alpha = true; // do x, y and b, g hold the state at alpha?
       for (int k = 0; k < 5 && std::abs(s) > 0.5 * std::abs(s0) && s * s0 < 0; ++k)
       {
@@ -238,7 +236,7 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
           at_alpha = false;
           break;
         }
-        alpha = next, r_new = r_try, s = slope();
+        alpha = next, r_new = r_try, s = slope(b, g);
       }
       if (!at_alpha)
         r_new = take(alpha);
