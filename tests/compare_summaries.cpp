@@ -1,7 +1,7 @@
-// Usage: compare_summaries A.json B.json RTOL
+// Usage: compare_summaries A.json B.json RTOL [ATOL]
 // Every number in A's "steps" (and its top-level results) must match B's
-// to RTOL relative, or to 1e-14 absolute (round-off about zero); exit 1
-// otherwise.
+// to RTOL relative, or to ATOL absolute (default 1e-14: round-off about
+// zero); exit 1 otherwise.
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -10,6 +10,7 @@
 namespace
 {
 int mismatches = 0;
+double abs_tol = 1e-14;
 
 void compare(const nlohmann::json& a, const nlohmann::json& b, double rtol,
              const std::string& path)
@@ -18,7 +19,7 @@ void compare(const nlohmann::json& a, const nlohmann::json& b, double rtol,
   {
     const double x = a.get<double>(), y = b.get<double>();
     const double err = std::abs(x - y) / std::max(std::abs(x), std::abs(y));
-    if (err > rtol && std::abs(x - y) > 1e-14)
+    if (err > rtol && std::abs(x - y) > abs_tol)
     {
       std::cout << path << ": " << x << " vs " << y << " (rel " << err << ")\n";
       ++mismatches;
@@ -47,17 +48,23 @@ void compare(const nlohmann::json& a, const nlohmann::json& b, double rtol,
 
 int main(int argc, char* argv[])
 {
-  if (argc != 4)
+  if (argc != 4 && argc != 5)
   {
-    std::cerr << "usage: compare_summaries A.json B.json RTOL\n";
+    std::cerr << "usage: compare_summaries A.json B.json RTOL [ATOL]\n";
     return 2;
   }
   nlohmann::json a = nlohmann::json::parse(std::ifstream(argv[1]));
   nlohmann::json b = nlohmann::json::parse(std::ifstream(argv[2]));
   const double rtol = std::stod(argv[3]);
-  for (const char* key : {"steps", "apex_displacement_mm", "cavity_volume_mm3",
-                          "cavity_volume_reference_mm3", "dofs", "cells",
-                          "probe_reference_mm", "zero_pressure_iterations"})
+  if (argc == 5)
+    abs_tol = std::stod(argv[4]);
+  for (const char* key :
+       {"steps", "apex_displacement_mm", "cavity_volume_mm3", "cavity_volume_reference_mm3",
+        "dofs", "cells", "probe_reference_mm", "zero_pressure_iterations", "frames",
+        "deformation_amplitude_mm", "deflection_amplitude_mm", "whole_eye_motion_hc_mm",
+        "peak_distance_mm", "hc_time_ms", "a1_time_ms", "a2_time_ms", "a1_length_mm",
+        "a2_length_mm", "a1_velocity_m_s", "a2_velocity_m_s", "iop_max_mmHg",
+        "apex_pressure_hc_mmHg", "apex_pressure_max_mmHg", "rest_drift_mm"})
     if (a.contains(key))
       compare(a[key], b.at(key), rtol, key);
   std::cout << (mismatches ? "MISMATCH" : "agree") << ": " << argv[1] << " vs " << argv[2]

@@ -33,7 +33,7 @@ std::string error_of(const std::string& text, const std::vector<std::string>& se
 
 TEST(Scene, DefaultsFillWhatTheFileOmits)
 {
-  Scene s = Scene::load(source("scenes/default.toml"));
+  Scene s = Scene::load(source("scenes/inflate.toml"));
   EXPECT_EQ(s.integer("mesh.layers"), 5);
   EXPECT_DOUBLE_EQ(s.real("material.cornea.c10"), 0.05);
   EXPECT_DOUBLE_EQ(s.real("material.sclera.c10"), 0.8);
@@ -49,13 +49,13 @@ TEST(Scene, DefaultsFillWhatTheFileOmits)
 
 TEST(Scene, OverridesWinAndAreChecked)
 {
-  Scene s = Scene::load(source("scenes/default.toml"),
+  Scene s = Scene::load(source("scenes/inflate.toml"),
                         {"mesh.layers=3", "material.cornea.k2=150", "solver.petsc.ksp_type=cg"});
   EXPECT_EQ(s.integer("mesh.layers"), 3);
   EXPECT_DOUBLE_EQ(s.real("material.cornea.k2"), 150);
   EXPECT_EQ(s.options("solver.petsc").at(0), std::make_pair(std::string("ksp_type"),
                                                              std::string("cg")));
-  EXPECT_THROW(Scene::load(source("scenes/default.toml"), {"mesh.layers"}), Error);
+  EXPECT_THROW(Scene::load(source("scenes/inflate.toml"), {"mesh.layers"}), Error);
 }
 
 TEST(Scene, WildcardMaterialsGetDefaults)

@@ -146,7 +146,7 @@ TEST(NeoHookean, ThickSphereInflation)
 // distributed mesh) against the analytic volume of the idealised eye.
 TEST(Eye, CavityVolumeMatchesGeometry)
 {
-  auto summary = run_scene("scenes/default.toml", "eye_volume",
+  auto summary = run_scene("scenes/inflate.toml", "eye_volume",
                            {"inflate.iop=0.0", "inflate.steps=1", "output.fields=false"});
   const double exact = nct::eye::derive(nct::eye::Geometry{}).cavity_volume;
   const double meshed = summary["cavity_volume_reference_mm3"].get<double>();
@@ -207,10 +207,10 @@ TEST(Eye, InternalStructuresMakeTwoClosedCavities)
   EXPECT_LT(pressed["apex_displacement_mm"][1].get<double>(), 0.0); // pushed in
 }
 
-// The default scene end to end; its summary is compared across rank counts.
-TEST(Eye, DefaultSceneInflates)
+// The inflation scene end to end; its summary is compared across rank counts.
+TEST(Eye, InflateSceneInflates)
 {
-  auto summary = run_scene("scenes/default.toml", "default");
+  auto summary = run_scene("scenes/inflate.toml", "inflate");
   EXPECT_EQ(summary["status"], "converged");
   const double apex = summary["apex_displacement_mm"].get<double>();
   // A pressurised shell bulges forward, by a fraction of a millimetre.

@@ -4,6 +4,7 @@
 #include <gmsh.h>
 
 #include "eye/geometry.h"
+#include "puff/load.h"
 
 namespace nct
 {
@@ -219,8 +220,32 @@ MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s)
 
 } // namespace
 
+std::unique_ptr<puff::Load> puff_load(const scene::Scene& s)
+{
+  const std::string load = s.string("puff.load");
+  if (load == "gaussian")
+    return std::make_unique<puff::Gaussian>(s.real("puff.peak"), s.real("puff.peak_time"),
+                                            s.real("puff.width_t"), s.real("puff.width_r"));
+  if (load == "table")
+  {
+    if (s.string("puff.table").empty())
+      throw scene::Error(s.file().string() + ": key 'puff.table': puff.load = \"table\" "
+                         "needs a CSV file (t_ms,r_mm,p_mmHg)");
+    try
+    {
+      return std::make_unique<puff::Table>(puff::Table::read(s.path("puff.table")));
+    }
+    catch (const std::invalid_argument& e)
+    {
+      throw scene::Error(s.file().string() + ": key 'puff.table': " + e.what());
+    }
+  }
+  return nullptr;
+}
+
 void check(MPI_Comm comm, const scene::Scene& s)
 {
+  puff_load(s);
   if (s.string("mesh.source") == "eye")
     eye_derived(s);
   else

@@ -9,6 +9,7 @@
 #include <mpi.h>
 
 #include "meshio/model.h"
+#include "puff/load.h"
 #include "scene/scene.h"
 #include "solid/problem.h"
 
@@ -41,6 +42,10 @@ struct Model
 
 /// Build the scene's model. Throws scene::Error on bad input.
 Model make_model(MPI_Comm comm, const scene::Scene& scene);
+
+/// The puff's air pressure p(r, t) [mmHg] (puff.load), or null for none.
+/// Throws scene::Error for a table that cannot be read.
+std::unique_ptr<puff::Load> puff_load(const scene::Scene& scene);
 
 /// The checks of a scene that need more than its keys: the eye's geometry,
 /// an external mesh's groups against the scene's materials and boundaries.

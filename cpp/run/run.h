@@ -46,7 +46,9 @@ struct RunOptions
 /// Run a scene into a run folder and return its summary (also written to
 /// out/summary.json). Phases: the zero-pressure geometry (if enabled),
 /// inflation by a pressure ramp, closing the cavities (cavity.model =
-/// "closed"), a surface pressure ramp (press.pressure != 0).
+/// "closed"), a surface pressure ramp (press.pressure != 0), then in
+/// dynamics a rest with the loads held (rest.duration > 0) and the air
+/// puff (puff.load), whose frames give the Corvis biomarkers.
 nlohmann::json run(MPI_Comm comm, const scene::Scene& scene, const RunOptions& options);
 
 } // namespace nct

@@ -192,6 +192,48 @@ std::vector<Key> declare()
                "the y axis, exp(-r^2 / (2 width^2))"});
   k.push_back({"press.width", K::real, "1.5", "mm", 1e-3, 1e3, {},
                "standard deviation of the gaussian profile", "press.profile=gaussian"});
+  // dynamic phases: the time integrator (forms/dynamics.py)
+  k.push_back({"dynamics.dt", K::real, "0.1", "ms", 1e-4, 10, {},
+               "time step of the rest and puff phases (halved when Newton fails, down to "
+               "2^-solver.max_step_cuts of it)"});
+  k.push_back({"dynamics.rho_inf", K::real, "0.8", "", 0, 1, {},
+               "generalised-alpha spectral radius at infinite frequency: 1 keeps every "
+               "mode (no numerical dissipation), 0 damps the unresolved ones in one step"});
+  k.push_back({"dynamics.damping", K::real, "0.1", "1/ms", 0, 1e3, {},
+               "mass-proportional (Rayleigh) damping coefficient"});
+  // phase: rest (dynamic, loads held)
+  k.push_back({"rest.duration", K::real, "0.0", "ms", 0, 1e3, {},
+               "time the closed, inflated eye is followed before the puff with the loads "
+               "held (it should not move); 0 skips the phase"});
+  // phase: the air puff as a prescribed pressure p(r, t) on the anterior cornea
+  k.push_back({"puff.load", K::choice, "\"none\"", "", -inf, inf,
+               {"none", "gaussian", "table"},
+               "none skips the phase; gaussian = peak exp(-(t - peak_time)^2 / (2 "
+               "width_t^2)) exp(-r^2 / (2 width_r^2)); table = a CSV file (t_ms, r_mm, "
+               "p_mmHg) such as a CFD run writes"});
+  const std::size_t puff_keys = k.size();
+  k.push_back({"puff.duration", K::real, "25.0", "ms", 1e-3, 1e3, {},
+               "time followed from the start of the puff"});
+  k.push_back({"puff.peak", K::real, "65.0", "mmHg", -1e4, 1e4, {},
+               "peak air pressure at the apex", "puff.load=gaussian"});
+  k.push_back({"puff.peak_time", K::real, "10.0", "ms", 0, 1e3, {},
+               "time of the peak from the start of the puff", "puff.load=gaussian"});
+  k.push_back({"puff.width_t", K::real, "3.0", "ms", 1e-3, 1e3, {},
+               "standard deviation in time", "puff.load=gaussian"});
+  k.push_back({"puff.width_r", K::real, "1.5", "mm", 1e-3, 1e3, {},
+               "standard deviation in the distance r from the eye's axis",
+               "puff.load=gaussian"});
+  k.push_back({"puff.table", K::string, "\"\"", "", -inf, inf, {},
+               "CSV file with the header t_ms,r_mm,p_mmHg, relative to the scene file "
+               "(zero before its first and after its last time)", "puff.load=table"});
+  k.push_back({"puff.frame_rate", K::real, "4330.0", "1/s", 10, 1e7, {},
+               "rate at which the corneal profiles are sampled (Corvis ST: 4330 frames/s)"});
+  k.push_back({"puff.apex_window", K::real, "1.0", "mm", 0.05, 5, {},
+               "applanation: the apex curvature is fitted over |x| <= this"});
+  k.push_back({"puff.flatness", K::real, "0.02", "mm", 1e-6, 1, {},
+               "applanation length: the profile is flat where it stays within this of "
+               "its height on the axis"});
+  only_when(k, puff_keys, "puff.load=gaussian|table");
   // nonlinear and linear solver
   k.push_back({"solver.max_iterations", K::integer, "25", "", 1, 500, {},
                "Newton iterations per load step before the step is cut"});
@@ -270,6 +312,8 @@ void check_consistency(const Scene& s)
       fail("key 'inflate.iop' > 0 but boundary.cavity_wall names no group");
     if (s.real("press.pressure") != 0 && s.strings("boundary.surface_load").empty())
       fail("key 'press.pressure' != 0 but boundary.surface_load names no group");
+    if (s.string("puff.load") != "none" && s.strings("boundary.surface_load").empty())
+      fail("key 'puff.load' is not \"none\" but boundary.surface_load names no group");
     for (const std::string& part : s.tables("material"))
       if (s.points("material." + part + ".fibre_directions").size() > 2)
         fail("key 'material." + part

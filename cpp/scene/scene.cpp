@@ -291,7 +291,7 @@ std::string scalar_text(const toml::node& n)
   return s.str();
 }
 
-/// Are all of a key's `when` conditions ("a=x,b=y") met by the user's
+/// Are all of a key's `when` conditions ("a=x,b=y|z") met by the user's
 /// table (or the defaults)?
 bool applies(const Key& key, const toml::table& user)
 {
@@ -308,7 +308,13 @@ bool applies(const Key& key, const toml::table& user)
       d = toml::parse("v = " + find_key(name)->default_value);
       n = d.get("v");
     }
-    if (scalar_text(*n) != want)
+    // "x|y": any of the choices
+    const std::string have = scalar_text(*n);
+    std::istringstream choices(want);
+    bool any = false;
+    for (std::string choice; std::getline(choices, choice, '|');)
+      any = any || choice == have;
+    if (!any)
       return false;
   }
   return true;

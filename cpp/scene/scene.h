@@ -47,7 +47,8 @@ struct Key
   std::vector<std::string> choices;
   std::string description;
   /// "key=value[,key=value]": the key applies only when those choices are
-  /// made (e.g. "mesh.source=eye"); setting it otherwise is a contradiction.
+  /// made (e.g. "mesh.source=eye"; "key=a|b" for either); setting it
+  /// otherwise is a contradiction.
   std::string when = "";
 };
 

@@ -20,7 +20,8 @@ struct NewtonSettings
   double atol = 1e-11;      ///< absolute residual norm
   bool line_search = true;  ///< energy line search (else full steps)
   /// Keep the factorised Jacobian (across iterations and solves) while
-  /// each iteration cuts the residual at least 4x; refactorise otherwise.
+  /// each iteration after a solve's first cuts the residual at least 4x;
+  /// refactorise otherwise.
   bool reuse_jacobian = false;
 };
 

@@ -1,0 +1,195 @@
+#include "biomarkers/record.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace nct::biomarkers
+{
+namespace
+{
+
+std::vector<std::string> names(const Columns& c)
+{
+  std::vector<std::string> n;
+  for (auto& [name, v] : c)
+    n.push_back(name);
+  return n;
+}
+
+std::vector<double> values(const Columns& c)
+{
+  std::vector<double> v;
+  for (auto& [name, x] : c)
+    v.push_back(x);
+  return v;
+}
+
+std::vector<double> blend(const std::vector<double>& a, const std::vector<double>& b, double s)
+{
+  std::vector<double> c(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    c[i] = (1 - s) * a[i] + s * b[i];
+  return c;
+}
+
+SectionState blend(const SectionState& a, const SectionState& b, double s)
+{
+  return {a.X, blend(a.x, b.x, s), blend(a.y, b.y, s), blend(a.uy, b.uy, s)};
+}
+
+void row(std::ostringstream& out, const std::vector<double>& v)
+{
+  for (std::size_t i = 0; i < v.size(); ++i)
+    out << (i ? "," : "") << v[i];
+  out << "\n";
+}
+
+void header(std::ostringstream& out, const std::vector<std::string>& names)
+{
+  for (std::size_t i = 0; i < names.size(); ++i)
+    out << (i ? "," : "") << names[i];
+  out << "\n";
+}
+
+} // namespace
+
+Record::Record(Section anterior, Section posterior, double frame_rate, double whole_eye_x,
+               std::vector<std::pair<std::string, std::function<double(double)>>> known)
+    : _anterior(std::move(anterior)), _posterior(std::move(posterior)),
+      _frame_interval(1e3 / frame_rate), _whole_eye_x(whole_eye_x), _known(std::move(known))
+{
+}
+
+void Record::add(double t, const Columns& given, const Columns& solver)
+{
+  Columns state;
+  for (auto& [name, f] : _known)
+    state.push_back({name, f(t)});
+  state.insert(state.end(), given.begin(), given.end());
+  if (_steps.empty())
+    _state_names = names(state), _solver_names = names(solver);
+  else if (names(state) != _state_names || names(solver) != _solver_names)
+    throw std::logic_error("Record::add: the columns changed between steps");
+  Instant now{t, _anterior.sample(), _posterior.sample(), values(state)};
+  if (_steps.empty())
+    _origin = {now.anterior.uy.front(), now.anterior.displacement_at(_whole_eye_x)};
+  std::vector<double> step{t};
+  for (double v : values(solver))
+    step.push_back(v);
+  step.insert(step.end(), now.state.begin(), now.state.end());
+  step.push_back(apex(now));
+  step.push_back(whole_eye(now));
+  _steps.push_back(step);
+  if (t < -1e-12)
+    return;
+  // The frames in (last, t]; the first state at t >= 0 opens them.
+  for (double tf = _frames.size() * _frame_interval;; tf = _frames.size() * _frame_interval)
+  {
+    if (!_last)
+    {
+      if (std::abs(t - tf) > 1e-9)
+        throw std::logic_error("Record::add: the frames must start at the puff's start");
+      _frames.push_back(now);
+      break;
+    }
+    if (tf > t + 1e-9)
+      break;
+    const double s = std::clamp((tf - _last->t) / (t - _last->t), 0.0, 1.0);
+    Instant frame{tf, blend(_last->anterior, now.anterior, s),
+                  blend(_last->posterior, now.posterior, s), blend(_last->state, now.state, s)};
+    for (std::size_t i = 0; i < _known.size(); ++i)
+      frame.state[i] = _known[i].second(tf);
+    _frames.push_back(std::move(frame));
+  }
+  _last = std::move(now);
+}
+
+std::string Record::steps_csv() const
+{
+  std::ostringstream out;
+  out.precision(10);
+  std::vector<std::string> n{"t_ms"};
+  n.insert(n.end(), _solver_names.begin(), _solver_names.end());
+  n.insert(n.end(), _state_names.begin(), _state_names.end());
+  n.insert(n.end(), {"apex_displacement_mm", "whole_eye_motion_mm"});
+  header(out, n);
+  for (const auto& s : _steps)
+    row(out, s);
+  return out.str();
+}
+
+std::string Record::frames_csv() const
+{
+  std::ostringstream out;
+  out.precision(10);
+  std::vector<std::string> n{"t_ms", "apex_displacement_mm", "whole_eye_motion_mm"};
+  n.insert(n.end(), _state_names.begin(), _state_names.end());
+  header(out, n);
+  for (const auto& f : _frames)
+  {
+    std::vector<double> v{f.t, apex(f), whole_eye(f)};
+    v.insert(v.end(), f.state.begin(), f.state.end());
+    row(out, v);
+  }
+  return out.str();
+}
+
+std::string Record::profiles_csv() const
+{
+  std::ostringstream out;
+  out.precision(10);
+  out << "frame,t_ms,surface,x_mm,y_mm\n";
+  for (std::size_t k = 0; k < _frames.size(); ++k)
+    for (const auto& [surface, section] :
+         {std::pair{"anterior", &_frames[k].anterior}, {"posterior", &_frames[k].posterior}})
+    {
+      const Profile p = section->profile();
+      for (std::size_t i = 0; i < p.x.size(); ++i)
+        out << k << "," << _frames[k].t << "," << surface << "," << p.x[i] << "," << p.y[i]
+            << "\n";
+    }
+  return out.str();
+}
+
+Result Record::analyse(double apex_window, double flatness) const
+{
+  std::vector<double> t, apex_u, whole;
+  std::vector<Profile> anterior;
+  for (const auto& f : _frames)
+  {
+    t.push_back(f.t);
+    anterior.push_back(f.anterior.profile());
+    apex_u.push_back(apex(f));
+    whole.push_back(whole_eye(f));
+  }
+  return biomarkers::analyse(t, anterior, apex_u, whole, apex_window, flatness);
+}
+
+std::vector<double> Record::column(const std::string& name) const
+{
+  auto it = std::find(_state_names.begin(), _state_names.end(), name);
+  if (it == _state_names.end())
+    throw std::logic_error("Record: no state column '" + name + "'");
+  std::vector<double> c;
+  for (const auto& f : _frames)
+    c.push_back(f.state[it - _state_names.begin()]);
+  return c;
+}
+
+double Record::at(const std::string& name, double t) const
+{
+  std::vector<double> times;
+  for (const auto& f : _frames)
+    times.push_back(f.t);
+  return at_time(times, column(name), t);
+}
+
+double Record::max(const std::string& name) const
+{
+  const auto c = column(name);
+  return *std::max_element(c.begin(), c.end());
+}
+
+} // namespace nct::biomarkers

@@ -1,0 +1,137 @@
+#include "run/stepper.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "io/format.h"
+#include "run/run.h"
+
+namespace nct
+{
+namespace
+{
+
+using io::format;
+
+std::string history(const std::vector<double>& residuals)
+{
+  std::string s;
+  for (double r : residuals)
+    s += format(" %.3e", r);
+  return s;
+}
+
+/// The last converged (x, y), to return to when a step fails.
+struct Saved
+{
+  explicit Saved(const solver::System& s) : x(*s.x), y(*s.y) {}
+  void keep(const solver::System& s)
+  {
+    std::copy(s.x->array().begin(), s.x->array().end(), x.mutable_array().begin());
+    y = *s.y;
+  }
+  void restore(const solver::System& s) const
+  {
+    std::copy(x.array().begin(), x.array().end(), s.x->mutable_array().begin());
+    *s.y = y;
+  }
+  dolfinx::la::Vector<double> x;
+  std::vector<double> y;
+};
+
+} // namespace
+
+bool Stepper::attempt(const std::string& where, const solver::System& system,
+                      solver::NewtonReport& report)
+{
+  report = _newton.solve(system, _settings);
+  newton_iterations += report.iterations;
+  if (!report.converged)
+    _folder.log(format("  %s: Newton failed after %d iterations: %s; residuals:%s",
+                       where.c_str(), report.iterations, report.reason.c_str(),
+                       history(report.residuals).c_str()));
+  return report.converged;
+}
+
+void Stepper::ramp(const std::string& phase, int steps, const solver::System& system,
+                   const std::function<void(double)>& load,
+                   const std::function<void(double, const solver::NewtonReport&)>& done)
+{
+  Saved saved(system);
+  const double nominal = 1.0 / steps, floor = std::ldexp(nominal, -_max_cuts);
+  double reached = 0, increment = nominal;
+  int successes = 0;
+  while (reached < 1.0 - 1e-12)
+  {
+    const double target = std::min(1.0, reached + increment);
+    load(target);
+    solver::NewtonReport report;
+    if (!attempt(format("%s %.4f", phase.c_str(), target), system, report))
+    {
+      saved.restore(system);
+      if (increment / 2 < floor * (1 - 1e-12))
+        throw Diverged(format("phase '%s' diverged: load fraction %.6f (from %.6f) failed "
+                              "with the increment cut %d times (solver.max_step_cuts); "
+                              "last Newton: %s; residuals:%s",
+                              phase.c_str(), target, reached, _max_cuts,
+                              report.reason.c_str(), history(report.residuals).c_str()));
+      ++cuts;
+      increment /= 2;
+      successes = 0;
+      continue;
+    }
+    reached = target;
+    saved.keep(system);
+    if (++successes >= 2 && increment < nominal)
+      increment = std::min(2 * increment, nominal), successes = 0;
+    done(reached, report);
+  }
+}
+
+void Stepper::march(const std::string& phase, double t0, double duration,
+                    solid::TimeStep step, solid::Problem& problem,
+                    const solver::System& system, const std::function<void(double)>& load,
+                    const std::function<void(double, double, const solver::NewtonReport&)>& done)
+{
+  Saved saved(system);
+  const double nominal = step.dt, floor = std::ldexp(nominal, -_max_cuts),
+               end = t0 + duration;
+  double t = t0, dt = nominal, last_dt = -1;
+  int successes = 0;
+  while (t < end - 1e-9 * nominal)
+  {
+    step.dt = std::min(dt, end - t);
+    if (step.dt != last_dt)
+    {
+      // The Jacobian scales with 1/dt^2: a kept factorisation is stale.
+      problem.set_time_step(step);
+      _newton.reset();
+      last_dt = step.dt;
+    }
+    load(t + problem.load_level() * step.dt);
+    solver::NewtonReport report;
+    if (!attempt(format("%s t = %.4f ms, dt = %.4g ms", phase.c_str(), t + step.dt, step.dt),
+                 system, report))
+    {
+      saved.restore(system);
+      if (step.dt / 2 < floor * (1 - 1e-12))
+        throw Diverged(format("phase '%s' diverged: the step from t = %.6f ms failed with "
+                              "dt = %.4g ms, the time step cut %d times (solver.max_step_cuts "
+                              "of dynamics.dt = %g ms); last Newton: %s; residuals:%s",
+                              phase.c_str(), t, step.dt, _max_cuts, nominal,
+                              report.reason.c_str(), history(report.residuals).c_str()));
+      ++cuts;
+      dt = step.dt / 2;
+      successes = 0;
+      continue;
+    }
+    problem.advance();
+    t += step.dt;
+    saved.keep(system);
+    if (++successes >= 2 && dt < nominal)
+      dt = std::min(2 * dt, nominal), successes = 0;
+    done(t, step.dt, report);
+  }
+}
+
+} // namespace nct

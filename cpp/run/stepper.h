@@ -1,0 +1,56 @@
+// Load ramps and time marching with step cutting, over one Newton solver.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "io/output.h"
+#include "solid/problem.h"
+#include "solver/newton.h"
+
+namespace nct
+{
+
+/// Quasi-static load ramps and dynamic time marching. A failed step is
+/// retried at half the increment, down to a floor of 2^-max_cuts of the
+/// nominal one; after two successes in a row the increment doubles back
+/// towards the nominal one. Failing at the floor throws Diverged.
+class Stepper
+{
+public:
+  Stepper(solver::Newton& newton, const solver::NewtonSettings& settings, int max_cuts,
+          io::RunFolder& folder)
+      : _newton(newton), _settings(settings), _max_cuts(max_cuts), _folder(folder)
+  {
+  }
+
+  /// Take the loads from fraction 0 (the current state) to 1 in `steps`
+  /// steps: `load(f)` sets them, `done(f, report)` sees every converged step.
+  void ramp(const std::string& phase, int steps, const solver::System& system,
+            const std::function<void(double)>& load,
+            const std::function<void(double, const solver::NewtonReport&)>& done);
+
+  /// March the problem's dynamics from time t0 for `duration` [ms] with
+  /// the step `step` (its dt the nominal one): `load(t)` sets the loads at
+  /// the generalised-alpha load time within each step, `done(t, dt,
+  /// report)` sees every converged step after the problem advanced.
+  void march(const std::string& phase, double t0, double duration, solid::TimeStep step,
+             solid::Problem& problem, const solver::System& system,
+             const std::function<void(double)>& load,
+             const std::function<void(double, double, const solver::NewtonReport&)>& done);
+
+  int newton_iterations = 0;
+  int cuts = 0;
+
+private:
+  /// One Newton solve; false (and x, y restored) when it failed.
+  bool attempt(const std::string& where, const solver::System& system,
+               solver::NewtonReport& report);
+
+  solver::Newton& _newton;
+  solver::NewtonSettings _settings;
+  int _max_cuts;
+  io::RunFolder& _folder;
+};
+
+} // namespace nct
