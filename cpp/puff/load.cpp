@@ -66,8 +66,10 @@ Table Table::read(const std::filesystem::path& file)
     std::array<double, 3> v;
     char c1 = 0, c2 = 0;
     row >> v[0] >> c1 >> v[1] >> c2 >> v[2];
-    if (!row || c1 != ',' || c2 != ',' || !std::isfinite(v[0]) || !std::isfinite(v[1])
-        || !std::isfinite(v[2]))
+    const bool read = static_cast<bool>(row);
+    row >> std::ws; // nothing may follow
+    if (!read || !row.eof() || c1 != ',' || c2 != ',' || !std::isfinite(v[0])
+        || !std::isfinite(v[1]) || !std::isfinite(v[2]))
       fail(line, "'" + text + "' is not three finite numbers t_ms,r_mm,p_mmHg");
     if (v[1] < 0)
       fail(line, "radius " + std::to_string(v[1]) + " mm is negative");

@@ -49,11 +49,13 @@ void add_material(std::vector<Key>& keys, const std::string& part,
     keys[i].when = when;
 }
 
-/// Mark the keys from `first` on as applying only when `when` holds.
+/// Mark the keys from `first` on as applying only when `when` holds
+/// (those with a narrower condition of their own keep it).
 void only_when(std::vector<Key>& keys, std::size_t first, const std::string& when)
 {
   for (std::size_t i = first; i < keys.size(); ++i)
-    keys[i].when = when;
+    if (keys[i].when.empty())
+      keys[i].when = when;
 }
 
 std::vector<Key> declare()
@@ -212,7 +214,7 @@ std::vector<Key> declare()
                "width_t^2)) exp(-r^2 / (2 width_r^2)); table = a CSV file (t_ms, r_mm, "
                "p_mmHg) such as a CFD run writes"});
   const std::size_t puff_keys = k.size();
-  k.push_back({"puff.duration", K::real, "25.0", "ms", 1e-3, 1e3, {},
+  k.push_back({"puff.duration", K::real, "20.0", "ms", 1e-3, 1e3, {},
                "time followed from the start of the puff"});
   k.push_back({"puff.peak", K::real, "65.0", "mmHg", -1e4, 1e4, {},
                "peak air pressure at the apex", "puff.load=gaussian"});

@@ -541,10 +541,22 @@ std::string describe(bool markdown)
       acc = acc.substr(0, acc.rfind(" ["));
     const std::string when
         = k.when.empty() ? "" : " (only when " + k.when + ")";
+    // A table cell escapes the column separator.
+    auto cell = [](const std::string& text)
+    {
+      std::string escaped;
+      for (char c : text)
+      {
+        if (c == '|')
+          escaped.push_back('\\');
+        escaped.push_back(c);
+      }
+      return escaped;
+    };
     if (markdown)
       s << "| `" << k.name << "` | `" << k.default_value << "` | "
         << (k.unit.empty() ? "-" : k.unit) << " | " << acc << " | "
-        << k.description << when << " |\n";
+        << cell(k.description + when) << " |\n";
     else
       s << k.name << " = " << k.default_value
         << (k.unit.empty() ? "" : "  [" + k.unit + "]") << "\n    " << acc
