@@ -471,7 +471,8 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
                         dynamic_step("rest", t, dt, report);
                         drift = std::max(drift, std::abs(apex() - apex_rest));
                       });
-        summary["rest_drift_mm"] = drift;
+        if (!probes.empty())
+          summary["rest_drift_mm"] = drift;
       }
       if (load)
       {
