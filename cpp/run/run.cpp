@@ -211,6 +211,14 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
     folder.write_text("summary.json", summary.dump(2) + "\n");
   };
 
+  std::optional<biomarkers::Record> frames; // the puff's, on the eye
+  // The puff's tables so far (whole files, written at the end or on failure).
+  auto write_tables = [&]
+  {
+    folder.write_text("steps.csv", frames->steps_csv());
+    folder.write_text("frames.csv", frames->frames_csv());
+    folder.write_text("profiles.csv", frames->profiles_csv());
+  };
   try
   {
     // Phase: zero-pressure geometry. The mesh is the eye imaged at the
@@ -425,7 +433,6 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
             [&](const std::array<double, 3>& X)
             { return press_peak / mmHg * press_profile(X) + air(std::hypot(X[0], X[2]), t); });
       };
-      std::optional<biomarkers::Record> frames;
       if (model.eye && load)
         frames.emplace(biomarkers::Section(problem, mesh_facets(m, m.boundaries.surface_load),
                                            "anterior cornea"),
@@ -484,9 +491,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
       }
       if (frames)
       {
-        folder.write_text("steps.csv", frames->steps_csv());
-        folder.write_text("frames.csv", frames->frames_csv());
-        folder.write_text("profiles.csv", frames->profiles_csv());
+        write_tables();
         summarise_puff(summary, *frames, s, m.cavity_names, folder);
       }
     }
@@ -494,6 +499,8 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
   catch (const Diverged& e)
   {
     summary["error"] = e.what();
+    if (frames)
+      write_tables();
     finish("failed");
     throw;
   }
