@@ -1,7 +1,7 @@
 # The puff as an animation: the eye warped by its displacement, coloured
 # by the displacement's magnitude, seen from the side (the horizontal
 # section z = 0 faces the camera), one PNG per output time from the start
-# of the puff, plus a contact sheet of the frames at 0, 5, 10, 15 ms.
+# of the puff.
 # Usage: xvfb-run -a pvbatch scripts/show-puff.py RUN_FOLDER OUT_DIR
 # (needs ParaView: apt-get install paraview python3-paraview xvfb; the run
 # must have a puff and output.fields = true). ParaView's GUI plays the
@@ -17,6 +17,8 @@ os.makedirs(out, exist_ok=True)
 u = Xdmf3ReaderS(FileName=[os.path.join(run, "displacement.xdmf")])
 u.UpdatePipelineInformation()
 times = [t for t in u.TimestepValues if t >= 0]  # the puff
+if not times:
+    sys.exit(f"{run}: displacement.xdmf holds no time from the start of a puff on")
 warped = WarpByVector(Input=u, Vectors=["POINTS", "displacement"], ScaleFactor=1.0)
 
 v = CreateView("RenderView")

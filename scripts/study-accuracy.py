@@ -50,6 +50,8 @@ def run(out, ranks, name, layers, degree, dt):
         with open(folder + ".log", "w") as log:
             if subprocess.call(cmd, stdout=log, stderr=subprocess.STDOUT) != 0:
                 print(f"{name} failed: see {folder}.log", file=sys.stderr)
+    if not os.path.exists(summary):
+        return None
     with open(summary) as f:
         s = json.load(f)
     return s if s["status"] == "converged" else None
@@ -70,6 +72,8 @@ def main():
     for name, layers, degree, dt in cases(a.quick):
         s = run(a.out, a.ranks, name, layers, degree, dt)
         if s is None:
+            if not rows:
+                sys.exit(f"the reference {name} failed: no errors can be measured")
             continue
         rows.append(dict(case=name, layers=layers, degree=degree, dt_ms=dt, dofs=s["dofs"],
                          steps=len(s["steps"]), newton=s["newton_iterations"],

@@ -219,13 +219,19 @@ TEST(Puff, TableDrivesTheSameMotionAsItsGaussian)
   ASSERT_EQ(a["status"], "converged");
   ASSERT_EQ(b["status"], "converged");
   ASSERT_EQ(a["steps"].size(), b["steps"].size());
-  double worst = 0, deepest = 0;
+  // From the inflated eye (the last step before the puff) on.
+  double worst = 0, deepest = 0, rest = 0;
   for (std::size_t i = 0; i < a["steps"].size(); ++i)
   {
     const double ua = a["steps"][i]["apex_displacement_mm"][1].get<double>(),
                  ub = b["steps"][i]["apex_displacement_mm"][1].get<double>();
+    if (a["steps"][i]["phase"] != "puff")
+    {
+      rest = ua;
+      continue;
+    }
     worst = std::max(worst, std::abs(ua - ub));
-    deepest = std::max(deepest, a["steps"][0]["apex_displacement_mm"][1].get<double>() - ua);
+    deepest = std::max(deepest, rest - ua);
   }
   std::printf("table against gaussian: apex differs by %.2e mm at most; it moved %.4f mm\n",
               worst, deepest);

@@ -46,7 +46,7 @@ private:
   MPI_Comm _comm;
   const solid::Problem& _problem;
   std::vector<std::int32_t> _nodes;      ///< owned block dofs in the section
-  std::vector<double> _X;                ///< their reference coordinates, 3 per node
+  std::vector<double> _X;                ///< reference (x, y) of the gathered nodes
   std::vector<std::size_t> _order;       ///< gathered nodes sorted by reference x
 };
 

@@ -7,12 +7,12 @@
 namespace nct::io
 {
 
-/// The text of std::snprintf(fmt, args...), up to 511 characters.
+/// The text of std::snprintf(fmt, args...).
 std::string format(const char* fmt, auto... args)
 {
-  char buf[512];
-  std::snprintf(buf, sizeof buf, fmt, args...);
-  return buf;
+  std::string text(std::snprintf(nullptr, 0, fmt, args...), '\0');
+  std::snprintf(text.data(), text.size() + 1, fmt, args...);
+  return text;
 }
 
 } // namespace nct::io

@@ -433,13 +433,16 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
             [&](const std::array<double, 3>& X)
             { return press_peak / mmHg * press_profile(X) + air(std::hypot(X[0], X[2]), t); });
       };
+      if (load && !model.eye)
+        folder.log("puff: the biomarkers need the idealised eye's cornea; this file mesh "
+                   "gets the puff's load and its steps, no frames");
       if (model.eye && load)
         frames.emplace(biomarkers::Section(problem, mesh_facets(m, m.boundaries.surface_load),
                                            "anterior cornea"),
                        biomarkers::Section(problem, posterior_cornea(m), "posterior cornea"),
                        s.real("puff.frame_rate"), whole_eye_x,
                        std::vector<std::pair<std::string, std::function<double(double)>>>{
-                           {"apex_air_pressure_mmHg", [&](double t) { return air(0, t); }}});
+                           {"apex_air_pressure_mmHg", [air](double t) { return air(0, t); }}});
       auto add_frame = [&](double t, double dt, const solver::NewtonReport& report)
       {
         if (!frames)
@@ -496,7 +499,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
       }
     }
   }
-  catch (const Diverged& e)
+  catch (const std::exception& e) // Diverged, or a biomarker that cannot be taken
   {
     summary["error"] = e.what();
     if (frames)

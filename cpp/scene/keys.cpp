@@ -228,7 +228,7 @@ std::vector<Key> declare()
   k.push_back({"puff.table", K::string, "\"\"", "", -inf, inf, {},
                "CSV file with the header t_ms,r_mm,p_mmHg, relative to the scene file "
                "(zero before its first and after its last time)", "puff.load=table"});
-  k.push_back({"puff.frame_rate", K::real, "4330.0", "1/s", 10, 1e7, {},
+  k.push_back({"puff.frame_rate", K::real, "4330.0", "1/s", 100, 1e5, {},
                "rate at which the corneal profiles are sampled (Corvis ST: 4330 frames/s)"});
   k.push_back({"puff.apex_window", K::real, "1.0", "mm", 0.05, 5, {},
                "applanation: the apex curvature is fitted over |x| <= this"});
@@ -282,6 +282,14 @@ void check_consistency(const Scene& s)
   const bool eye = s.string("mesh.source") == "eye";
   auto fail = [&](const std::string& what)
   { throw Error(file + ": " + what); };
+
+  // The biomarkers need the deepest frame and its neighbours.
+  if (s.string("puff.load") != "none"
+      && s.real("puff.duration") * s.real("puff.frame_rate") < 2e3)
+    fail("key 'puff.duration': " + std::to_string(s.real("puff.duration"))
+         + " ms holds fewer than 3 frames at puff.frame_rate = "
+         + std::to_string(s.real("puff.frame_rate")) + "/s; needs at least "
+         + std::to_string(2e3 / s.real("puff.frame_rate")) + " ms");
 
   if (!eye)
   {
