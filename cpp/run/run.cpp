@@ -317,10 +317,23 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
 
     // Every converged step: its line in the log and summary, its fields.
     double t_step = MPI_Wtime();
-    auto record = [&](nlohmann::json step, double time, const solver::NewtonReport& report)
+    // Each cavity's volume [mm^3] and pressure [mmHg] now.
+    auto cavity_state = [&]
     {
       const auto volumes = problem.cavity_volumes();
       const auto& pressures = closed ? closed->pressures() : open_pressures;
+      biomarkers::Columns state;
+      for (std::size_t c = 0; c < n_cavities; ++c)
+      {
+        state.push_back({m.cavity_names[c] + "_pressure_mmHg", pressures[c] / mmHg});
+        state.push_back({m.cavity_names[c] + "_volume_mm3", volumes[c]});
+      }
+      return state;
+    };
+    // A converged step into the summary (returned), the log and the fields.
+    auto record = [&](nlohmann::json step, double time, const solver::NewtonReport& report,
+                      const biomarkers::Columns& cavities) -> const nlohmann::json&
+    {
       const auto u = problem.displacement_at(probes);
       step["time"] = time;
       step["newton_iterations"] = report.iterations;
@@ -328,12 +341,10 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
       step["newton_residuals"] = report.residuals;
       std::string text;
       for (std::size_t c = 0; c < n_cavities; ++c)
-      {
-        step[m.cavity_names[c] + "_volume_mm3"] = volumes[c];
-        step[m.cavity_names[c] + "_pressure_mmHg"] = pressures[c] / mmHg;
         text += format("  %s %.3f mmHg %.4f mm3", m.cavity_names[c].c_str(),
-                       pressures[c] / mmHg, volumes[c]);
-      }
+                       cavities[2 * c].second, cavities[2 * c + 1].second);
+      for (const auto& [name, value] : cavities)
+        step[name] = value;
       for (std::size_t i = 0; i < u.size(); ++i)
         step[m.probe_names[i] + "_displacement_mm"] = vec(u[i]);
       steps.push_back(step);
@@ -347,13 +358,14 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
                         report.iterations, report.residuals.back(), text.c_str(),
                         MPI_Wtime() - t_step));
       t_step = MPI_Wtime();
+      return steps.back();
     };
     auto quasi_static_step = [&](const char* phase, double f, const auto& report)
     {
       record({{"phase", phase},
               {"load_fraction", f},
               {"surface_pressure_mmHg", surface_pressure / mmHg}},
-             t0 + f, report);
+             t0 + f, report, cavity_state());
     };
 
     // Phase: inflate the cavities by a pressure ramp to the IOP.
@@ -443,18 +455,11 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
                        s.real("puff.frame_rate"), whole_eye_x,
                        std::vector<std::pair<std::string, std::function<double(double)>>>{
                            {"apex_air_pressure_mmHg", [air](double t) { return air(0, t); }}});
-      auto add_frame = [&](double t, double dt, const solver::NewtonReport& report)
+      auto add_frame = [&](double t, double dt, const solver::NewtonReport& report,
+                           biomarkers::Columns state)
       {
         if (!frames)
           return;
-        biomarkers::Columns state;
-        const auto volumes = problem.cavity_volumes();
-        const auto& pressures = closed ? closed->pressures() : open_pressures;
-        for (std::size_t c = 0; c < n_cavities; ++c)
-        {
-          state.push_back({m.cavity_names[c] + "_pressure_mmHg", pressures[c] / mmHg});
-          state.push_back({m.cavity_names[c] + "_volume_mm3", volumes[c]});
-        }
         state.push_back({"strain_energy_mJ", problem.strain_energy()});
         state.push_back({"kinetic_energy_mJ", problem.kinetic_energy()});
         frames->add(t, state,
@@ -462,24 +467,28 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
                      {"newton_iterations", double(report.iterations)},
                      {"residual_N", report.residuals.back()}});
       };
+      // Returns the apex's axial displacement (the first probe's), if any.
       auto dynamic_step = [&](const char* phase, double t, double dt, const auto& report)
       {
-        record({{"phase", phase}, {"dt_ms", dt}, {"apex_air_pressure_mmHg", air(0, t)}}, t,
-               report);
-        add_frame(t, dt, report);
+        const auto cavities = cavity_state();
+        const nlohmann::json& step = record(
+            {{"phase", phase}, {"dt_ms", dt}, {"apex_air_pressure_mmHg", air(0, t)}}, t,
+            report, cavities);
+        add_frame(t, dt, report, cavities);
+        return probes.empty() ? 0.0
+                              : step[m.probe_names[0] + "_displacement_mm"][1].get<double>();
       };
       double apex_rest = 0, drift = 0;
       if (rest > 0)
       {
         surface_load(-rest);
         // The first probe (the eye's apex) should not move.
-        auto apex = [&] { return probes.empty() ? 0.0 : problem.displacement_at(probes)[0][1]; };
-        apex_rest = apex();
+        apex_rest = probes.empty() ? 0.0 : problem.displacement_at(probes)[0][1];
         stepper.march("rest", -rest, rest, step, problem, system, [](double) {},
                       [&](double t, double dt, const auto& report)
                       {
-                        dynamic_step("rest", t, dt, report);
-                        drift = std::max(drift, std::abs(apex() - apex_rest));
+                        drift = std::max(
+                            drift, std::abs(dynamic_step("rest", t, dt, report) - apex_rest));
                       });
         if (!probes.empty())
           summary["rest_drift_mm"] = drift;
@@ -487,7 +496,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
       if (load)
       {
         if (frames && frames->frames() == 0)
-          add_frame(0, 0, solver::NewtonReport{true, 0, {0.0}, ""});
+          add_frame(0, 0, solver::NewtonReport{true, 0, {0.0}, ""}, cavity_state());
         stepper.march("puff", 0, s.real("puff.duration"), step, problem, system, surface_load,
                       [&](double t, double dt, const auto& report)
                       { dynamic_step("puff", t, dt, report); });

@@ -124,6 +124,7 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
           fem::create_functionspace(k.space, "surface_profile", m.mesh)));
   surface_profile->name = "surface_profile";
   surface_profile->x()->set(1.0);
+  _profile_points = surface_profile->function_space()->tabulate_dof_coordinates(false);
   fields = cell_fields(*m.cells, parts, materials, fibres, Q0, Q0v);
 
   // Integration tags: cells by law, facets by load.
@@ -246,7 +247,7 @@ void Problem::set_surface_profile(
     const std::function<double(const std::array<double, 3>&)>& f)
 {
   // P1: the dofs sit at the vertices.
-  const std::vector<double> x = surface_profile->function_space()->tabulate_dof_coordinates(false);
+  const std::vector<double>& x = _profile_points;
   auto values = surface_profile->x()->mutable_array();
   for (std::size_t i = 0; i < values.size(); ++i)
     values[i] = f({x[3 * i], x[3 * i + 1], x[3 * i + 2]});
@@ -373,8 +374,9 @@ std::vector<double> Problem::nodal_displacement() const
   return out;
 }
 
-void Problem::update_fibres()
+void Problem::update_reference()
 {
+  _profile_points = surface_profile->function_space()->tabulate_dof_coordinates(false);
   auto fresh = cell_fields(*_cells, _parts, _materials, _fibres,
                            fields.at("c10")->function_space(),
                            fields.at("fibre_1")->function_space());

@@ -95,8 +95,9 @@ public:
 
   /// Displacement at the mesh's geometry nodes, laid out as geometry().x().
   std::vector<double> nodal_displacement() const;
-  /// Lay the fibres again on the current reference geometry (after it moved).
-  void update_fibres();
+  /// After the reference geometry moved: lay the fibres again and find
+  /// the surface profile's points anew.
+  void update_reference();
   /// Displacement at reference points (every rank gets every value).
   std::vector<std::array<double, 3>>
   displacement_at(const std::vector<std::array<double, 3>>& points) const;
@@ -137,7 +138,8 @@ private:
   std::vector<std::shared_ptr<const dolfinx::fem::DirichletBC<double>>> _bcs;
   std::shared_ptr<dolfinx::mesh::MeshTags<std::int32_t>> _law_tags, _load_tags;
   int _symmetry_factor = 1;
-  // What lays the fibres: kept for update_fibres().
+  std::vector<double> _profile_points; ///< reference points of surface_profile's dofs
+  // What lays the fibres: kept for update_reference().
   std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> _cells;
   std::map<std::int32_t, std::string> _parts;
   std::map<std::string, Material> _materials;

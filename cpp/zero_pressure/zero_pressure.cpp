@@ -97,7 +97,7 @@ Report solve(solid::Problem& problem, const Settings& settings,
       for (std::size_t i = 0; i < X.size(); ++i)
         X[i] -= omega * r[i];
       r_old = r;
-      problem.update_fibres();
+      problem.update_reference();
     }
     it.wall = MPI_Wtime() - t;
     report.iterations.push_back(it);
