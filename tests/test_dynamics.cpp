@@ -52,6 +52,7 @@ std::vector<Sample> vibrate(double dt, double end, double rho_inf, double dampin
     const double x = std::min(t / release, 1.0);
     return p0 * (1 - x * x * x * (10 - 15 * x + 6 * x * x));
   };
+  const nct::solid::Probes probe(problem, {{1.0, 1.0, 1.0}});
   std::vector<Sample> samples;
   const int steps = static_cast<int>(std::lround(end / dt));
   for (int n = 0; n < steps; ++n)
@@ -65,7 +66,7 @@ std::vector<Sample> vibrate(double dt, double end, double rho_inf, double dampin
       break;
     }
     problem.advance();
-    const double u = problem.displacement_at({{1.0, 1.0, 1.0}})[0][0];
+    const double u = probe.displacement()[0][0];
     samples.push_back({(n + 1) * dt, u, problem.strain_energy() + problem.kinetic_energy()});
   }
   return samples;

@@ -295,6 +295,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
     report_volumes("reference");
     for (std::size_t i = 0; i < probes.size(); ++i)
       summary["probe_reference_mm"][m.probe_names[i]] = vec(probes[i]);
+    const solid::Probes probe_points(problem, probes); // the geometry is final from here
 
     // Output of one state at time `time`.
     io::Fields fields(folder, mesh, problem.coordinate_space());
@@ -334,7 +335,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
     auto record = [&](nlohmann::json step, double time, const solver::NewtonReport& report,
                       const biomarkers::Columns& cavities) -> const nlohmann::json&
     {
-      const auto u = problem.displacement_at(probes);
+      const auto u = probe_points.displacement();
       step["time"] = time;
       step["newton_iterations"] = report.iterations;
       step["residual_N"] = report.residuals.back();
@@ -483,7 +484,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
       {
         surface_load(-rest);
         // The first probe (the eye's apex) should not move.
-        apex_rest = probes.empty() ? 0.0 : problem.displacement_at(probes)[0][1];
+        apex_rest = probes.empty() ? 0.0 : probe_points.displacement()[0][1];
         stepper.march("rest", -rest, rest, step, problem, system, [](double) {},
                       [&](double t, double dt, const auto& report)
                       {

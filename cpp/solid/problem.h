@@ -98,7 +98,8 @@ public:
   /// After the reference geometry moved: lay the fibres again and find
   /// the surface profile's points anew.
   void update_reference();
-  /// Displacement at reference points (every rank gets every value).
+  /// Displacement at reference points (every rank gets every value); for
+  /// repeated use at the same points, Probes finds their cells once.
   std::vector<std::array<double, 3>>
   displacement_at(const std::vector<std::array<double, 3>>& points) const;
   /// Vector P1 space: the mesh's coordinate element, for output.
@@ -144,6 +145,23 @@ private:
   std::map<std::int32_t, std::string> _parts;
   std::map<std::string, Material> _materials;
   FibreRule _fibres;
+};
+
+/// The displacement at fixed reference points, their cells found once:
+/// the reference geometry must not move while the object is in use.
+class Probes
+{
+public:
+  Probes(const Problem& problem, std::vector<std::array<double, 3>> points);
+  /// The current displacement at each point; collective, every rank gets
+  /// every value.
+  std::vector<std::array<double, 3>> displacement() const;
+
+private:
+  const Problem& _problem;
+  std::vector<std::array<double, 3>> _points;
+  std::vector<double> _x;            ///< the points, flattened
+  std::vector<std::int32_t> _cells;  ///< a local cell holding each point, or -1
 };
 
 } // namespace nct::solid
