@@ -1,5 +1,6 @@
 // The idealised eye: derived shape, fibres and the layered quarter-eye mesh.
 #include "eye/geometry.h"
+#include "meshio/gmsh_options.h"
 
 #include <gmsh.h>
 
@@ -384,30 +385,7 @@ Layout layout(const Geometry& g)
   return e;
 }
 
-/// Sets gmsh numeric options, restoring the previous values on destruction.
-class OptionGuard
-{
-public:
-  OptionGuard() = default;
-  OptionGuard(const OptionGuard&) = delete;
-  OptionGuard& operator=(const OptionGuard&) = delete;
-  ~OptionGuard()
-  {
-    for (auto it = saved_.rbegin(); it != saved_.rend(); ++it)
-      gmsh::option::setNumber(it->first, it->second);
-  }
-
-  void set(const std::string& name, double value)
-  {
-    double old = 0;
-    gmsh::option::getNumber(name, old);
-    saved_.emplace_back(name, old);
-    gmsh::option::setNumber(name, value);
-  }
-
-private:
-  std::vector<std::pair<std::string, double>> saved_;
-};
+using meshio::OptionGuard;
 
 /// Boundary groups; the values are the physical tags. cavity_wall without,
 /// aqueous_wall and vitreous_wall with internal structures.

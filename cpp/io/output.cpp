@@ -65,14 +65,23 @@ void Fields::write(const dolfinx::fem::Function<double>& f, double time)
         _mesh->comm(), _folder.dir() / (f.name + ".xdmf"), "w");
     file->write_mesh(*_mesh);
   }
+  // Scalar or vector, on the coordinate element's nodes (P1) or not.
   const auto& element = *f.function_space()->element();
+  const auto& coordinates = *_coordinate_space->element();
   const bool dg0 = element.space_dimension() / element.block_size() == 1;
-  const bool on_coordinates = element == *_coordinate_space->element();
+  const bool on_coordinates
+      = element.family() == coordinates.family()
+        && element.space_dimension() / element.block_size()
+               == coordinates.space_dimension() / coordinates.block_size();
   if (dg0 || on_coordinates)
     file->write_function(f, time);
   else
   {
-    dolfinx::fem::Function<double> g(_coordinate_space);
+    if (element.value_size() == 1 && !_scalar_space)
+      _scalar_space = std::make_shared<dolfinx::fem::FunctionSpace>(
+          _coordinate_space->sub({0})->collapse().first);
+    dolfinx::fem::Function<double> g(element.value_size() == 1 ? _scalar_space
+                                                                : _coordinate_space);
     g.name = f.name;
     g.interpolate(f);
     file->write_function(g, time);

@@ -33,8 +33,9 @@ private:
 };
 
 /// One XDMF file per function, so ParaView opens each as a time series.
-/// Functions that are neither DG0 nor on the mesh's coordinate element
-/// are interpolated to it first.
+/// Functions that are neither DG0 nor on the nodes of the mesh's
+/// coordinate element are interpolated to it (scalars to its scalar
+/// counterpart) first.
 class Fields
 {
 public:
@@ -47,6 +48,7 @@ private:
   const RunFolder& _folder;
   std::shared_ptr<const dolfinx::mesh::Mesh> _mesh;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _coordinate_space;
+  std::shared_ptr<const dolfinx::fem::FunctionSpace> _scalar_space; ///< made on first use
   std::map<std::string, std::unique_ptr<dolfinx::io::XDMFFile>> _files;
 };
 

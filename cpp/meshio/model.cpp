@@ -1,6 +1,10 @@
 #include "meshio/model.h"
 
+#include <dolfinx/geometry/BoundingBoxTree.h>
+#include <dolfinx/geometry/utils.h>
+
 #include <gmsh.h>
+#include <algorithm>
 #include <array>
 #include <set>
 #include <map>
@@ -223,6 +227,53 @@ Model extract(MPI_Comm comm, double size_max)
   return m;
 }
 
+Model keep(const Model& model, const std::vector<std::int32_t>& volume_groups)
+{
+  Model m;
+  m.groups = model.groups;
+  for (auto it = m.groups.volumes.begin(); it != m.groups.volumes.end();)
+    it = std::find(volume_groups.begin(), volume_groups.end(), it->second) == volume_groups.end()
+             ? m.groups.volumes.erase(it)
+             : std::next(it);
+  std::vector<std::int64_t> index(model.x.size() / 3, -1);
+  std::set<std::array<std::int64_t, 3>> faces;
+  for (std::size_t c = 0; c < model.cell_groups.size(); ++c)
+  {
+    if (std::find(volume_groups.begin(), volume_groups.end(), model.cell_groups[c])
+        == volume_groups.end())
+      continue;
+    const std::int64_t* v = &model.cells[4 * c];
+    for (int k = 0; k < 4; ++k)
+    {
+      std::array<std::int64_t, 3> f;
+      for (int i = 0, j = 0; i < 4; ++i)
+        if (i != k)
+          f[j++] = v[i];
+      std::sort(f.begin(), f.end());
+      faces.insert(f);
+      if (index[v[k]] < 0)
+      {
+        index[v[k]] = static_cast<std::int64_t>(m.x.size() / 3);
+        m.x.insert(m.x.end(), model.x.begin() + 3 * v[k], model.x.begin() + 3 * v[k] + 3);
+      }
+      m.cells.push_back(index[v[k]]);
+    }
+    m.cell_groups.push_back(model.cell_groups[c]);
+  }
+  for (std::size_t f = 0; f < model.facet_groups.size(); ++f)
+  {
+    std::array<std::int64_t, 3> key{model.facets[3 * f], model.facets[3 * f + 1],
+                                    model.facets[3 * f + 2]};
+    std::sort(key.begin(), key.end());
+    if (!faces.count(key))
+      continue;
+    for (int i = 0; i < 3; ++i)
+      m.facets.push_back(index[model.facets[3 * f + i]]);
+    m.facet_groups.push_back(model.facet_groups[f]);
+  }
+  return m;
+}
+
 Tagged distribute(MPI_Comm comm, const Model& model)
 {
   using namespace dolfinx;
@@ -328,6 +379,37 @@ combine_points(MPI_Comm comm, std::vector<double> sums,
       out[i][j] = sums[4 * i + j] / sums[4 * i + 3];
   }
   return out;
+}
+
+Probes::Probes(const dolfinx::mesh::Mesh& mesh, std::vector<std::array<double, 3>> points)
+    : _comm(mesh.comm()), _points(std::move(points)), _cells(_points.size(), -1)
+{
+  for (auto& p : _points)
+    _x.insert(_x.end(), p.begin(), p.end());
+  dolfinx::geometry::BoundingBoxTree tree(mesh, 3, 1e-8);
+  auto candidates = dolfinx::geometry::compute_collisions(tree, _x);
+  auto cells = dolfinx::geometry::compute_colliding_cells(mesh, candidates, _x);
+  for (std::size_t i = 0; i < _points.size(); ++i)
+    if (auto c = cells.links(static_cast<int>(i)); !c.empty())
+      _cells[i] = c[0];
+}
+
+std::vector<std::array<double, 3>> Probes::values(const dolfinx::fem::Function<double>& f) const
+{
+  const int n = f.function_space()->element()->value_size();
+  if (n > 3)
+    throw std::invalid_argument("meshio::Probes: at most 3 components");
+  std::vector<double> sum(4 * _points.size(), 0.0), value(n);
+  for (std::size_t i = 0; i < _points.size(); ++i)
+    if (_cells[i] >= 0)
+    {
+      f.eval(std::span<const double>(_x.data() + 3 * i, 3), {1, 3},
+             std::span<const std::int32_t>(&_cells[i], 1), value,
+             {1, static_cast<std::size_t>(n)});
+      std::copy(value.begin(), value.end(), sum.begin() + 4 * i);
+      sum[4 * i + 3] = 1;
+    }
+  return combine_points(_comm, std::move(sum), _points);
 }
 
 } // namespace nct::meshio

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <dolfinx/fem/Function.h>
 #include <dolfinx/mesh/Mesh.h>
 #include <dolfinx/mesh/MeshTags.h>
 #include <mpi.h>
@@ -49,6 +50,10 @@ Groups open(MPI_Comm comm, const std::filesystem::path& file);
 /// no larger than `size_max` if it is positive).
 Model extract(MPI_Comm comm, double size_max = 0);
 
+/// The part of a Model in the given volume groups: their cells, the nodes
+/// they use (renumbered) and the tagged triangles that are faces of them.
+Model keep(const Model& model, const std::vector<std::int32_t>& volume_groups);
+
 /// A distributed mesh with its physical-group tags.
 struct Tagged
 {
@@ -74,5 +79,24 @@ retag(const dolfinx::mesh::MeshTags<std::int32_t>& tags,
 std::vector<std::array<double, 3>>
 combine_points(MPI_Comm comm, std::vector<double> sums,
                const std::vector<std::array<double, 3>>& points);
+
+/// Values of functions at fixed points, their cells found once: the mesh
+/// must not move while the object is in use.
+class Probes
+{
+public:
+  Probes(const dolfinx::mesh::Mesh& mesh, std::vector<std::array<double, 3>> points);
+  /// The function's value (up to 3 components; the rest 0) at each point;
+  /// collective, every rank gets every value. Throws for a point that no
+  /// rank's cells hold.
+  std::vector<std::array<double, 3>> values(const dolfinx::fem::Function<double>& f) const;
+  const std::vector<std::array<double, 3>>& points() const { return _points; }
+
+private:
+  MPI_Comm _comm;
+  std::vector<std::array<double, 3>> _points;
+  std::vector<double> _x;           ///< the points, flattened
+  std::vector<std::int32_t> _cells; ///< a local cell holding each point, or -1
+};
 
 } // namespace nct::meshio

@@ -255,6 +255,71 @@ void check(MPI_Comm comm, const scene::Scene& s)
   }
 }
 
+AirMesh make_air_mesh(MPI_Comm comm, const scene::Scene& s)
+{
+  check(comm, s);
+  const double t = MPI_Wtime();
+  AirMesh a;
+  const eye::Geometry g = eye_geometry(s);
+  a.eye = eye_derived(s);
+  a.cut_y = g.cut_y;
+  using D = air::Domain;
+  for (auto [key, field] : std::vector<std::pair<const char*, double D::*>>{
+           {"radius", &D::radius},
+           {"nozzle_diameter", &D::nozzle_diameter},
+           {"nozzle_outer_diameter", &D::nozzle_outer_diameter},
+           {"nozzle_distance", &D::nozzle_distance},
+           {"nozzle_length", &D::nozzle_length},
+           {"size_nozzle", &D::size_nozzle},
+           {"size_jet", &D::size_jet},
+           {"jet_radius", &D::jet_radius},
+           {"size_far", &D::size_far}})
+    a.domain.*field = s.real(std::string("air.") + key);
+  const bool with_eye = s.string("air.eye") == "rigid";
+  eye::Refinement r;
+  r.layers = s.integer("mesh.layers");
+  r.size_cornea = s.real("mesh.size_cornea");
+  r.size_limbus = s.real("mesh.size_limbus");
+  r.size_sclera = s.real("mesh.size_sclera");
+  if (g.internal_structures)
+    r.size_lens = s.real("mesh.size_lens");
+
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  GmshSession gmsh_session;
+  std::string error, bad_input;
+  if (rank == 0)
+  {
+    try
+    {
+      if (with_eye)
+        eye::build(g, r);
+      air::build(a.domain, a.eye.apex_y, g.cut_y, with_eye);
+    }
+    catch (const std::invalid_argument& e)
+    {
+      bad_input = e.what();
+    }
+    catch (const std::exception& e)
+    {
+      error = e.what();
+    }
+  }
+  if (bad_input = meshio::broadcast(comm, bad_input); !bad_input.empty())
+    throw scene::Error(s.file().string() + ": " + bad_input);
+  if (error = meshio::broadcast(comm, error); !error.empty())
+    throw std::runtime_error("meshing the air failed: " + error);
+  const meshio::Model whole = meshio::extract(comm);
+  const std::int32_t air_tag = static_cast<std::int32_t>(air::Group::volume);
+  for (auto group : whole.cell_groups)
+    ++(group == air_tag ? a.air_cells : a.eye_cells);
+  MPI_Bcast(&a.air_cells, 1, MPI_INT64_T, 0, comm);
+  MPI_Bcast(&a.eye_cells, 1, MPI_INT64_T, 0, comm);
+  a.mesh = meshio::distribute(comm, meshio::keep(whole, {air_tag}));
+  a.t_mesh = MPI_Wtime() - t;
+  return a;
+}
+
 Model make_model(MPI_Comm comm, const scene::Scene& s)
 {
   check(comm, s);

@@ -8,6 +8,8 @@
 
 #include <mpi.h>
 
+#include "air/domain.h"
+#include "eye/geometry.h"
 #include "meshio/model.h"
 #include "puff/load.h"
 #include "scene/scene.h"
@@ -42,6 +44,20 @@ struct Model
 
 /// Build the scene's model. Throws scene::Error on bad input.
 Model make_model(MPI_Comm comm, const scene::Scene& scene);
+
+/// The mesh of the air (puff.load = "air"): the air domain meshed about
+/// the idealised eye (air.eye = "rigid") or in its place ("none"), in one
+/// gmsh model with the eye; only the air's cells are kept.
+struct AirMesh
+{
+  meshio::Tagged mesh;
+  air::Domain domain;
+  eye::Derived eye;  ///< the eye's shape (apex_y), also without the eye
+  double cut_y = 0;  ///< the eye's cut plane: the domain's bottom
+  std::int64_t eye_cells = 0, air_cells = 0; ///< tetrahedra of the whole model
+  double t_mesh = 0; ///< wall time of meshing and distribution [s]
+};
+AirMesh make_air_mesh(MPI_Comm comm, const scene::Scene& scene);
 
 /// The puff's air pressure p(r, t) [mmHg] (puff.load), or null for none.
 /// Throws scene::Error for a table that cannot be read.

@@ -13,6 +13,7 @@
 #include "cavity/cavity.h"
 #include "io/format.h"
 #include "io/output.h"
+#include "run/air.h"
 #include "run/model.h"
 #include "run/stepper.h"
 #include "solver/newton.h"
@@ -141,6 +142,8 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
   auto petsc = s.options("solver.petsc");
   petsc.insert(petsc.end(), options.petsc.begin(), options.petsc.end());
   solver::set_petsc_options(petsc);
+  if (s.string("puff.load") == "air")
+    return run_air(comm, s, folder);
 
   Model model = make_model(comm, s);
   MeshSetup& m = model.setup;
@@ -436,6 +439,9 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
                                  s.real("dynamics.damping")};
       problem.start_dynamics(step);
       newton.reset();
+      const Stepper::Dynamics dynamics{
+          [&problem, step](double dt) { problem.set_time_step({dt, step.rho_inf, step.damping}); },
+          [&problem] { return problem.load_level(); }, [&problem] { problem.advance(); }};
       // Air pressure [mmHg] at r, t; none before the puff.
       auto air = [&](double r, double t) { return t < 0 || !load ? 0.0 : (*load)(r, t); };
       // The surface load at time t: the press's, held, plus the air's.
@@ -485,7 +491,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
         surface_load(-rest);
         // The first probe (the eye's apex) should not move.
         apex_rest = probes.empty() ? 0.0 : probe_points.displacement()[0][1];
-        stepper.march("rest", -rest, rest, step, problem, system, [](double) {},
+        stepper.march("rest", -rest, rest, step.dt, dynamics, system, [](double) {},
                       [&](double t, double dt, const auto& report)
                       {
                         drift = std::max(
@@ -498,7 +504,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
       {
         if (frames && frames->frames() == 0)
           add_frame(0, 0, solver::NewtonReport{true, 0, {0.0}, ""}, cavity_state());
-        stepper.march("puff", 0, s.real("puff.duration"), step, problem, system, surface_load,
+        stepper.march("puff", 0, s.real("puff.duration"), step.dt, dynamics, system, surface_load,
                       [&](double t, double dt, const auto& report)
                       { dynamic_step("puff", t, dt, report); });
       }

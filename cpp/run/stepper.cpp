@@ -88,49 +88,48 @@ void Stepper::ramp(const std::string& phase, int steps, const solver::System& sy
   }
 }
 
-void Stepper::march(const std::string& phase, double t0, double duration,
-                    solid::TimeStep step, solid::Problem& problem,
-                    const solver::System& system, const std::function<void(double)>& load,
+void Stepper::march(const std::string& phase, double t0, double duration, double nominal,
+                    const Dynamics& problem, const solver::System& system,
+                    const std::function<void(double)>& load,
                     const std::function<void(double, double, const solver::NewtonReport&)>& done)
 {
   Saved saved(system);
-  const double nominal = step.dt, floor = std::ldexp(nominal, -_max_cuts),
-               end = t0 + duration;
+  const double floor = std::ldexp(nominal, -_max_cuts), end = t0 + duration;
   double t = t0, dt = nominal, last_dt = -1;
   int successes = 0;
   while (t < end - 1e-9 * nominal)
   {
-    step.dt = std::min(dt, end - t);
-    if (step.dt != last_dt)
+    const double step = std::min(dt, end - t);
+    if (step != last_dt)
     {
-      // The Jacobian scales with 1/dt^2: a kept factorisation is stale.
+      // The Jacobian depends on dt: a kept factorisation is stale.
       problem.set_time_step(step);
       _newton.reset();
-      last_dt = step.dt;
+      last_dt = step;
     }
-    load(t + problem.load_level() * step.dt);
+    load(t + problem.load_level() * step);
     solver::NewtonReport report;
-    if (!attempt(format("%s t = %.4f ms, dt = %.4g ms", phase.c_str(), t + step.dt, step.dt),
+    if (!attempt(format("%s t = %.4f ms, dt = %.4g ms", phase.c_str(), t + step, step),
                  system, report))
     {
       saved.restore(system);
-      if (step.dt / 2 < floor * (1 - 1e-12))
+      if (step / 2 < floor * (1 - 1e-12))
         throw Diverged(format("phase '%s' diverged: the step from t = %.6f ms failed with "
                               "dt = %.4g ms, the time step cut %d times (solver.max_step_cuts "
-                              "of dynamics.dt = %g ms); last Newton: %s; residuals:%s",
-                              phase.c_str(), t, step.dt, _max_cuts, nominal,
+                              "of the nominal %g ms); last Newton: %s; residuals:%s",
+                              phase.c_str(), t, step, _max_cuts, nominal,
                               report.reason.c_str(), history(report.residuals).c_str()));
       ++cuts;
-      dt = step.dt / 2;
+      dt = step / 2;
       successes = 0;
       continue;
     }
     problem.advance();
-    t += step.dt;
+    t += step;
     saved.keep(system);
     if (++successes >= 2 && dt < nominal)
       dt = std::min(2 * dt, nominal), successes = 0;
-    done(t, step.dt, report);
+    done(t, step, report);
   }
 }
 

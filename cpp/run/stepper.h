@@ -30,12 +30,20 @@ public:
             const std::function<void(double)>& load,
             const std::function<void(double, const solver::NewtonReport&)>& done);
 
-  /// March the problem's dynamics from time t0 for `duration` [ms] with
-  /// the step `step` (its dt the nominal one): `load(t)` sets the loads at
-  /// the generalised-alpha load time within each step, `done(t, dt,
-  /// report)` sees every converged step after the problem advanced.
-  void march(const std::string& phase, double t0, double duration, solid::TimeStep step,
-             solid::Problem& problem, const solver::System& system,
+  /// What marching needs of a time-dependent problem.
+  struct Dynamics
+  {
+    std::function<void(double dt)> set_time_step; ///< the next step's length [ms]
+    std::function<double()> load_level; ///< where in the step the loads act, in [0, 1]
+    std::function<void()> advance;      ///< the converged step becomes the old state
+  };
+
+  /// March a problem from time t0 for `duration` [ms] with the nominal
+  /// step dt: `load(t)` sets the loads at the problem's load level within
+  /// each step, `done(t, dt, report)` sees every converged step after the
+  /// problem advanced.
+  void march(const std::string& phase, double t0, double duration, double dt,
+             const Dynamics& problem, const solver::System& system,
              const std::function<void(double)>& load,
              const std::function<void(double, double, const solver::NewtonReport&)>& done);
 

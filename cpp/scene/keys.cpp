@@ -209,19 +209,20 @@ std::vector<Key> declare()
                "held (it should not move); 0 skips the phase"});
   // phase: the air puff as a prescribed pressure p(r, t) on the anterior cornea
   k.push_back({"puff.load", K::choice, "\"none\"", "", -inf, inf,
-               {"none", "gaussian", "table"},
+               {"none", "gaussian", "table", "air"},
                "none skips the phase; gaussian = peak exp(-(t - peak_time)^2 / (2 "
                "width_t^2)) exp(-r^2 / (2 width_r^2)); table = a CSV file (t_ms, r_mm, "
-               "p_mmHg) such as a CFD run writes"});
+               "p_mmHg) such as a CFD run writes; air = the air itself, computed from the "
+               "nozzle (air.*) on a rigid eye or on none, writing such a table"});
   const std::size_t puff_keys = k.size();
   k.push_back({"puff.duration", K::real, "20.0", "ms", 1e-3, 1e3, {},
-               "time followed from the start of the puff"});
+               "time followed from the start of the puff", "puff.load=gaussian|table|air"});
   k.push_back({"puff.peak", K::real, "65.0", "mmHg", -1e4, 1e4, {},
                "peak air pressure at the apex", "puff.load=gaussian"});
   k.push_back({"puff.peak_time", K::real, "10.0", "ms", 0, 1e3, {},
-               "time of the peak from the start of the puff", "puff.load=gaussian"});
+               "time of the peak from the start of the puff", "puff.load=gaussian|air"});
   k.push_back({"puff.width_t", K::real, "3.0", "ms", 1e-3, 1e3, {},
-               "standard deviation in time", "puff.load=gaussian"});
+               "standard deviation in time", "puff.load=gaussian|air"});
   k.push_back({"puff.width_r", K::real, "1.5", "mm", 1e-3, 1e3, {},
                "standard deviation in the distance r from the eye's axis",
                "puff.load=gaussian"});
@@ -236,6 +237,49 @@ std::vector<Key> declare()
                "applanation length: the profile is flat where it stays within this of "
                "its height on the axis"});
   only_when(k, puff_keys, "puff.load=gaussian|table");
+  // the air (puff.load = "air"): stabilised ALE Navier-Stokes, forms/air.py
+  const std::size_t air_keys = k.size();
+  k.push_back({"air.eye", K::choice, "\"rigid\"", "", -inf, inf, {"rigid", "none"},
+               "rigid = the idealised eye (geometry.*, mesh.*) is a fixed no-slip wall in the "
+               "air; none = the free jet, the eye's place left to the air"});
+  k.push_back({"air.density", K::real, "1.25e-6", "g/mm^3", 1e-9, 1e-2, {},
+               "air density"});
+  k.push_back({"air.viscosity", K::real, "1.8e-8", "MPa ms", 1e-12, 1, {},
+               "air dynamic viscosity"});
+  k.push_back({"air.inlet_velocity", K::real, "120.0", "m/s", 0, 1e3, {},
+               "air speed on the nozzle's axis at the inlet at the puff's peak, "
+               "u = inlet_velocity exp(-(t - puff.peak_time)^2 / (2 puff.width_t^2))"});
+  k.push_back({"air.inlet_profile", K::choice, "\"plug\"", "", -inf, inf,
+               {"plug", "parabolic"},
+               "shape across the nozzle's bore: plug = uniform, parabolic = 1 - (r / "
+               "bore radius)^2 (half the flow rate)"});
+  k.push_back({"air.backflow", K::real, "1.0", "", 0, 10, {},
+               "outlet backflow stabilisation beta (>= 0.5 is energy stable; 0 turns it off)"});
+  k.push_back({"air.dt", K::real, "0.25", "ms", 1e-5, 10, {},
+               "time step (halved when Newton fails, down to 2^-solver.max_step_cuts of it)"});
+  k.push_back({"air.bdf_order", K::integer, "2", "", 1, 2, {},
+               "order of the backward differentiation formula in time (the first step: 1)"});
+  k.push_back({"air.output_interval", K::real, "1.0", "ms", 1e-5, 1e3, {},
+               "time between the XDMF velocity and pressure fields (output.fields)"});
+  k.push_back({"air.radius", K::real, "50.0", "mm", 5, 500, {},
+               "radius of the air domain about the optical axis"});
+  k.push_back({"air.nozzle_diameter", K::real, "2.4", "mm", 0.1, 20, {},
+               "inner diameter of the nozzle (its bore)"});
+  k.push_back({"air.nozzle_outer_diameter", K::real, "6.0", "mm", 0.2, 100, {},
+               "outer diameter of the nozzle's tube"});
+  k.push_back({"air.nozzle_distance", K::real, "11.0", "mm", 1, 100, {},
+               "distance from the nozzle's exit to the corneal apex, along the axis"});
+  k.push_back({"air.nozzle_length", K::real, "2.0", "mm", 0.5, 200, {},
+               "length of the bore from the inlet (the device's face) to the exit"});
+  k.push_back({"air.size_nozzle", K::real, "0.1", "mm", 0.02, 10, {},
+               "element size in the nozzle's bore and one bore radius beyond its exit"});
+  k.push_back({"air.size_jet", K::real, "0.15", "mm", 0.02, 10, {},
+               "element size within air.jet_radius of the axis, from the inlet to the eye"});
+  k.push_back({"air.jet_radius", K::real, "2.0", "mm", 0.1, 50, {},
+               "radius of the finely meshed core about the axis"});
+  k.push_back({"air.size_far", K::real, "5.0", "mm", 0.05, 100, {},
+               "largest element size (sizes grow 0.25 mm per mm away from the core)"});
+  only_when(k, air_keys, "puff.load=air");
   // nonlinear and linear solver
   k.push_back({"solver.max_iterations", K::integer, "25", "", 1, 500, {},
                "Newton iterations per load step before the step is cut"});
@@ -284,12 +328,17 @@ void check_consistency(const Scene& s)
   { throw Error(file + ": " + what); };
 
   // The biomarkers need the deepest frame and its neighbours.
-  if (s.string("puff.load") != "none"
+  const std::string load = s.string("puff.load");
+  if ((load == "gaussian" || load == "table")
       && s.real("puff.duration") * s.real("puff.frame_rate") < 2e3)
     fail("key 'puff.duration': " + std::to_string(s.real("puff.duration"))
          + " ms holds fewer than 3 frames at puff.frame_rate = "
          + std::to_string(s.real("puff.frame_rate")) + "/s; needs at least "
          + std::to_string(2e3 / s.real("puff.frame_rate")) + " ms");
+
+  if (load == "air" && !eye)
+    fail("key 'puff.load': the air is meshed about the idealised eye's place; it needs "
+         "mesh.source = \"eye\"");
 
   if (!eye)
   {

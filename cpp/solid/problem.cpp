@@ -395,38 +395,6 @@ Problem::displacement_at(const std::vector<std::array<double, 3>>& points) const
   return Probes(*this, points).displacement();
 }
 
-Probes::Probes(const Problem& problem, std::vector<std::array<double, 3>> points)
-    : _problem(problem), _points(std::move(points)), _cells(_points.size(), -1)
-{
-  const auto& mesh = *problem.u->function_space()->mesh();
-  for (auto& p : _points)
-    _x.insert(_x.end(), p.begin(), p.end());
-  geometry::BoundingBoxTree tree(mesh, 3, 1e-8);
-  auto candidates = geometry::compute_collisions(tree, _x);
-  auto cells = geometry::compute_colliding_cells(mesh, candidates, _x);
-  for (std::size_t i = 0; i < _points.size(); ++i)
-    if (auto c = cells.links(static_cast<int>(i)); !c.empty())
-      _cells[i] = c[0];
-}
-
-std::vector<std::array<double, 3>> Probes::displacement() const
-{
-  const auto& u = *_problem.u;
-  std::vector<double> sum(4 * _points.size(), 0.0);
-  for (std::size_t i = 0; i < _points.size(); ++i)
-    if (_cells[i] >= 0)
-    {
-      std::array<double, 3> value;
-      u.eval(std::span<const double>(_x.data() + 3 * i, 3), {1, 3},
-             std::span<const std::int32_t>(&_cells[i], 1), value, {1, 3});
-      for (int j = 0; j < 3; ++j)
-        sum[4 * i + j] = value[j];
-      sum[4 * i + 3] = 1;
-    }
-  return meshio::combine_points(u.function_space()->mesh()->comm(), std::move(sum), _points);
-}
-
-
 void Problem::update_von_mises() { von_mises->interpolate(*_von_mises); }
 
 std::int64_t Problem::dofs() const

@@ -152,16 +152,17 @@ private:
 class Probes
 {
 public:
-  Probes(const Problem& problem, std::vector<std::array<double, 3>> points);
+  Probes(const Problem& problem, std::vector<std::array<double, 3>> points)
+      : _problem(problem), _probes(*problem.u->function_space()->mesh(), std::move(points))
+  {
+  }
   /// The current displacement at each point; collective, every rank gets
   /// every value.
-  std::vector<std::array<double, 3>> displacement() const;
+  std::vector<std::array<double, 3>> displacement() const { return _probes.values(*_problem.u); }
 
 private:
   const Problem& _problem;
-  std::vector<std::array<double, 3>> _points;
-  std::vector<double> _x;            ///< the points, flattened
-  std::vector<std::int32_t> _cells;  ///< a local cell holding each point, or -1
+  meshio::Probes _probes;
 };
 
 } // namespace nct::solid

@@ -92,6 +92,8 @@ public:
 
   /// Forget the factorised Jacobian (e.g. after the mesh moved).
   void reset() { _factorised = false; }
+  /// The linear solver, e.g. to give a fieldsplit preconditioner its blocks.
+  KSP ksp() const { return _ksp; }
 
   Timings timings;
 

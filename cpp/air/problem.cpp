@@ -1,0 +1,196 @@
+#include "air/problem.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <dolfinx/fem/assembler.h>
+#include <dolfinx/fem/petsc.h>
+#include <dolfinx/fem/utils.h>
+#include <dolfinx/la/petsc.h>
+
+#include "air_p1_full.h"
+
+namespace nct::air
+{
+namespace
+{
+using namespace dolfinx;
+
+/// Facet tag of the outlet in forms/air.py.
+constexpr std::int32_t outlet_tag = 1;
+
+
+} // namespace
+
+Problem::Problem(const meshio::Tagged& m, const Fluid& fluid, const Boundaries& boundaries,
+                 double velocity_scale)
+{
+  const auto space = functionspace_form_air_p1_full_R;
+  auto W = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(space, "up", m.mesh));
+  auto Wm = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(space, "w", m.mesh));
+  up = std::make_shared<fem::Function<double>>(W);
+  up_n = std::make_shared<fem::Function<double>>(W);
+  up_nm1 = std::make_shared<fem::Function<double>>(W);
+  w = std::make_shared<fem::Function<double>>(Wm);
+  w->name = "mesh_velocity";
+
+  auto [V, velocity_map] = W->sub({0})->collapse();
+  auto [Q, pressure_map] = W->sub({1})->collapse();
+  auto Vp = std::make_shared<fem::FunctionSpace>(std::move(V));
+  auto Qp = std::make_shared<fem::FunctionSpace>(std::move(Q));
+  _velocity_dofs = std::move(velocity_map);
+  _pressure_dofs = std::move(pressure_map);
+  velocity = std::make_shared<fem::Function<double>>(Vp);
+  velocity->name = "air_velocity";
+  pressure = std::make_shared<fem::Function<double>>(Qp);
+  pressure->name = "air_pressure";
+  _inlet_shape = std::make_shared<fem::Function<double>>(Vp);
+  _inlet = std::make_shared<fem::Function<double>>(Vp);
+
+  _bc_diagonal = fluid.density * velocity_scale * 1.0; // [g/ms]: rho U (1 mm)^2
+  for (auto [name, value] :
+       {std::pair{"rho", fluid.density}, std::pair{"mu", fluid.viscosity},
+        std::pair{"beta", fluid.backflow},
+        std::pair{"continuity_scale", fluid.density * velocity_scale},
+        std::pair{"inv_dt", 0.0}, std::pair{"c0", 1.0}, std::pair{"c1", -1.0},
+        std::pair{"c2", 0.0}})
+    _constants[name] = std::make_shared<fem::Constant<double>>(value);
+
+  std::map<std::int32_t, std::int32_t> outlet_of_group;
+  for (auto g : boundaries.outlet)
+    outlet_of_group[g] = outlet_tag;
+  auto outlet_tags = std::make_shared<mesh::MeshTags<std::int32_t>>(
+      meshio::retag(*m.facets, outlet_of_group));
+  const std::map<fem::IntegralType, const mesh::MeshTags<int>*> subdomains
+      = {{fem::IntegralType::exterior_facet, outlet_tags.get()}};
+  const std::map<std::string, std::shared_ptr<const fem::Function<double>>> coeffs
+      = {{"up", up}, {"up_n", up_n}, {"up_nm1", up_nm1}, {"w", w}};
+  const std::map<std::string, std::shared_ptr<const fem::Constant<double>>> constants(
+      _constants.begin(), _constants.end());
+  _R = std::make_shared<fem::Form<double>>(
+      fem::create_form<double>(*form_air_p1_full_R, {W}, coeffs, constants, subdomains));
+  _J = std::make_shared<fem::Form<double>>(
+      fem::create_form<double>(*form_air_p1_full_J, {W, W}, coeffs, constants, subdomains));
+
+  // Dirichlet conditions: the inlet first, so that walls win on its rim.
+  auto W0 = W->sub({0});
+  for (auto g : boundaries.inlet)
+  {
+    auto dofs = fem::locate_dofs_topological({*W0, *Vp}, 2, m.facets->find(g));
+    _bcs.push_back(std::make_shared<fem::DirichletBC<double>>(_inlet, std::move(dofs), W0));
+  }
+  // Components: dolfinx 0.5 cannot take W.sub(0).sub(2) of this mixed
+  // space, so the velocity's dofs are found whole and filtered by
+  // component (the collapsed space's dofs are unrolled, 3 per node).
+  auto zero = std::make_shared<fem::Function<double>>(Vp);
+  for (auto& [g, components] : boundaries.zero)
+  {
+    auto all = fem::locate_dofs_topological({*W0, *Vp}, 2, m.facets->find(g));
+    std::array<std::vector<std::int32_t>, 2> dofs;
+    for (std::size_t j = 0; j < all[0].size(); ++j)
+      if (std::find(components.begin(), components.end(), all[1][j] % 3) != components.end())
+      {
+        dofs[0].push_back(all[0][j]);
+        dofs[1].push_back(all[1][j]);
+      }
+    _bcs.push_back(std::make_shared<fem::DirichletBC<double>>(zero, std::move(dofs), W0));
+  }
+}
+
+void Problem::set_inlet(
+    const std::function<std::array<double, 3>(const std::array<double, 3>&)>& shape)
+{
+  const std::vector<double> x
+      = _inlet_shape->function_space()->tabulate_dof_coordinates(false);
+  auto values = _inlet_shape->x()->mutable_array();
+  for (std::size_t i = 0; i < values.size() / 3; ++i)
+  {
+    const auto v = shape({x[3 * i], x[3 * i + 1], x[3 * i + 2]});
+    std::copy(v.begin(), v.end(), values.begin() + 3 * i);
+  }
+}
+
+void Problem::set_inlet_scale(double scale)
+{
+  auto shape = _inlet_shape->x()->array();
+  auto values = _inlet->x()->mutable_array();
+  for (std::size_t i = 0; i < values.size(); ++i)
+    values[i] = scale * shape[i];
+  auto x = up->x()->mutable_array();
+  for (const auto& bc : _bcs)
+    bc->set(x);
+  up->x()->scatter_fwd();
+}
+
+void Problem::set_time_step(double dt, int order)
+{
+  _dt = dt;
+  if (!std::isfinite(dt))
+  {
+    _constants["inv_dt"]->value = {0.0};
+    return;
+  }
+  _constants["inv_dt"]->value = {1 / dt};
+  std::array<double, 3> c{1, -1, 0};
+  if (order == 2 && _last_dt > 0)
+  {
+    // Variable-step BDF2: omega = dt_{n+1} / dt_n.
+    const double omega = dt / _last_dt;
+    c = {(1 + 2 * omega) / (1 + omega), -(1 + omega), omega * omega / (1 + omega)};
+  }
+  _constants["c0"]->value = {c[0]};
+  _constants["c1"]->value = {c[1]};
+  _constants["c2"]->value = {c[2]};
+}
+
+void Problem::advance()
+{
+  std::copy(up_n->x()->array().begin(), up_n->x()->array().end(),
+            up_nm1->x()->mutable_array().begin());
+  std::copy(up->x()->array().begin(), up->x()->array().end(),
+            up_n->x()->mutable_array().begin());
+  _last_dt = _dt;
+}
+
+void Problem::residual(la::Vector<double>& b)
+{
+  std::fill(b.mutable_array().begin(), b.mutable_array().end(), 0.0);
+  fem::assemble_vector<double>(b.mutable_array(), *_R);
+  b.scatter_rev(std::plus<double>());
+  fem::set_bc<double>(b.mutable_array(), _bcs, up->x()->array(), -_bc_diagonal);
+}
+
+void Problem::jacobian(Mat A)
+{
+  MatZeroEntries(A);
+  fem::assemble_matrix(la::petsc::Matrix::set_block_fn(A, ADD_VALUES), *_J, _bcs);
+  MatAssemblyBegin(A, MAT_FLUSH_ASSEMBLY);
+  MatAssemblyEnd(A, MAT_FLUSH_ASSEMBLY);
+  fem::set_diagonal<double>(la::petsc::Matrix::set_fn(A, INSERT_VALUES),
+                            *_J->function_spaces()[0], _bcs, _bc_diagonal);
+  MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
+}
+
+Mat Problem::create_matrix() const { return fem::petsc::create_matrix(*_J, "aij"); }
+
+void Problem::update_fields()
+{
+  auto x = up->x()->array();
+  auto u = velocity->x()->mutable_array();
+  for (std::size_t i = 0; i < _velocity_dofs.size(); ++i)
+    u[i] = x[_velocity_dofs[i]];
+  auto p = pressure->x()->mutable_array();
+  for (std::size_t i = 0; i < _pressure_dofs.size(); ++i)
+    p[i] = x[_pressure_dofs[i]];
+}
+
+std::int64_t Problem::dofs() const
+{
+  auto W = up->function_space();
+  return W->dofmap()->index_map->size_global() * W->dofmap()->index_map_bs();
+}
+
+} // namespace nct::air

@@ -1,0 +1,62 @@
+"""Formulation `air`: the air, incompressible Navier-Stokes in ALE form.
+
+Unknowns (u, p) in one mixed space: equal-order continuous Lagrange of
+degree `degree` for both (CMake builds degree 1: P1/P1), stable by the
+PSPG term (forms/navier_stokes.py).
+Find (u, p) such that, for every admissible (v, q),
+
+    sum_cells [Galerkin + SUPG + PSPG + LSIC](u, p; v, q) dx
+  + integral_{outlet} -beta rho min((u - w) . n, 0) u . v ds = 0,
+
+with du/dt|_X = inv_dt (c0 u + c1 u_n + c2 u_{n-1}) on the mesh that
+moves with velocity w (BDF1: c = 1, -1, 0; BDF2: 3/2, -2, 1/2; steady
+flow: inv_dt = 0). Walls, symmetry planes and the inlet are Dirichlet
+conditions on u (cpp/air); the outlet's natural condition is sigma n = 0.
+
+`degree` and `quadrature_degree` are set by the CMake wrapper.
+"""
+from ufl import (Constant, Coefficient, FacetNormal, FiniteElement, Measure, MixedElement,
+                 TestFunctions, TrialFunction, VectorElement, derivative, split,
+                 tetrahedron)
+
+import navier_stokes
+
+# Facet tag of the outlet, shared with cpp/air/problem.cpp.
+OUTLET = 1
+
+velocity_element = VectorElement("Lagrange", tetrahedron, degree)  # noqa: F821 (wrapper)
+pressure_element = FiniteElement("Lagrange", tetrahedron, degree)  # noqa: F821
+element = MixedElement([velocity_element, pressure_element])
+mesh_velocity_element = VectorElement("Lagrange", tetrahedron, 1)
+
+v, q = TestFunctions(element)
+dup = TrialFunction(element)
+up = Coefficient(element)          # (u [mm/ms], p [MPa]) at t_{n+1}
+up_n = Coefficient(element)        # at t_n
+up_nm1 = Coefficient(element)      # at t_{n-1}
+w = Coefficient(mesh_velocity_element)  # mesh velocity [mm/ms]
+u, p = split(up)
+u_n, _ = split(up_n)
+u_nm1, _ = split(up_nm1)
+
+rho = Constant(tetrahedron)        # [g/mm^3]
+mu = Constant(tetrahedron)         # [MPa ms]
+inv_dt = Constant(tetrahedron)     # 1/dt [1/ms]; 0: steady
+c0 = Constant(tetrahedron)         # BDF coefficients
+c1 = Constant(tetrahedron)
+c2 = Constant(tetrahedron)
+beta = Constant(tetrahedron)       # backflow coefficient [-]
+continuity_scale = Constant(tetrahedron)  # [g/ms]: continuity rows in N
+
+# Fixed quadrature: tau's square root and division make UFL's estimate explode.
+dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
+ds = Measure("ds", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
+n = FacetNormal(tetrahedron)
+
+dudt = inv_dt * (c0 * u + c1 * u_n + c2 * u_nm1)
+R = (navier_stokes.cell_residual(u, p, v, q, dudt, w, u_n, rho, mu, inv_dt, tetrahedron,
+                                 continuity_scale) * dx
+     + navier_stokes.backflow(u, v, w, n, rho, beta) * ds(OUTLET))
+J = derivative(R, up, dup)
+
+forms = [R, J]
