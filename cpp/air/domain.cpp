@@ -105,18 +105,7 @@ Surfaces mesh_boundary(const Domain& d, double apex_y, double bottom_y, const Ri
                        const std::function<double(double, double, double)>& size)
 {
   namespace geo = gmsh::model::geo;
-  const std::string name = "air_boundary";
-  gmsh::model::add(name);
-  struct Cleanup
-  {
-    const std::string& name;
-    ~Cleanup()
-    {
-      gmsh::model::setCurrent(name);
-      gmsh::model::mesh::removeSizeCallback();
-      gmsh::model::remove();
-    }
-  } cleanup{name};
+  const meshio::TemporaryModel boundary_model("air_boundary");
 
   const double y_exit = apex_y + d.nozzle_distance, y_top = y_exit + d.nozzle_length;
   const double rn = d.nozzle_diameter / 2, ro = d.nozzle_outer_diameter / 2, R = d.radius;
@@ -258,7 +247,7 @@ Surfaces mesh_boundary(const Domain& d, double apex_y, double bottom_y, const Ri
 
 } // namespace
 
-void build(const Domain& d, double apex_y, double bottom_y, bool around_eye)
+void validate(const Domain& d, double apex_y, double bottom_y, double eye_radius)
 {
   if (!(d.nozzle_diameter > 0))
     reject("air.nozzle_diameter", d.nozzle_diameter, "must be > 0");
@@ -277,7 +266,13 @@ void build(const Domain& d, double apex_y, double bottom_y, bool around_eye)
     reject("air.size_nozzle", d.size_nozzle, "must be > 0 and <= air.size_far");
   if (!(apex_y > bottom_y))
     reject("geometry.cut_y", bottom_y, "must lie below the corneal apex");
+  if (!(d.radius > eye_radius + d.size_jet))
+    reject("air.radius", d.radius, "must exceed the eye's radius (geometry.sclera_outer_radius)");
+}
 
+void build(const Domain& d, double apex_y, double bottom_y, double eye_radius, bool around_eye)
+{
+  validate(d, apex_y, bottom_y, eye_radius);
   // Size: size_nozzle in the bore and a bore radius beyond its exit;
   // size_jet in a cylinder of jet_radius about the axis, from the inlet
   // down to below the apex. Each grows by size_gradation per mm of

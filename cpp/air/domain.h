@@ -43,14 +43,20 @@ enum class Group
   symmetry_z = 15    ///< "air_symmetry_z": air on z = 0
 };
 
+/// Throws std::invalid_argument naming the air.* key of an impossible
+/// shape or size (cheap: no meshing). `eye_radius`: the eye's largest
+/// distance from the axis (0 without the eye).
+void validate(const Domain& d, double apex_y, double bottom_y, double eye_radius);
+
 /// Mesh the air domain into the current gmsh model (rank 0, after
 /// gmsh::initialize). `around_eye`: the current model is the meshed eye
 /// (eye::build), whose anterior surfaces' triangles become the air's wall,
-/// node for node, and whose cut plane is y = bottom_y. Otherwise a new
+/// node for node, whose cut plane is y = bottom_y and which lies within
+/// eye_radius of the axis. Otherwise a new
 /// model "air" holds the air alone (the free jet), the eye's place left
 /// empty; apex_y is where the apex would be. Throws std::invalid_argument
 /// naming the air.* key of an impossible shape, std::runtime_error if gmsh
 /// fails.
-void build(const Domain& d, double apex_y, double bottom_y, bool around_eye);
+void build(const Domain& d, double apex_y, double bottom_y, double eye_radius, bool around_eye);
 
 } // namespace nct::air

@@ -445,19 +445,7 @@ Chart mesh_chart(const ChartSpec& spec)
     return spec.size(std::hypot(x, y));
   };
 
-  const std::string name = "eye_chart";
-  gmsh::model::add(name);
-  // Removes the chart model and its size callback however we leave.
-  struct Cleanup
-  {
-    const std::string& name;
-    ~Cleanup()
-    {
-      gmsh::model::setCurrent(name);
-      gmsh::model::mesh::removeSizeCallback();
-      gmsh::model::remove();
-    }
-  } cleanup{name};
+  const meshio::TemporaryModel chart_model("eye_chart");
 
   const int origin = geo::addPoint(0, 0, 0);
   std::vector<int> along_x(na), along_z(na), arcs(na), rings(na);

@@ -1,4 +1,4 @@
-// Scoped gmsh options.
+// Scoped gmsh options and temporary models.
 #pragma once
 
 #include <string>
@@ -33,6 +33,26 @@ public:
 
 private:
   std::vector<std::pair<std::string, double>> saved_;
+};
+
+/// A gmsh model made current for the span of a scope: on leaving, it and
+/// the mesh size callback are removed (the previous model is not made
+/// current again: the caller sets the one it wants).
+class TemporaryModel
+{
+public:
+  explicit TemporaryModel(std::string name) : _name(std::move(name)) { gmsh::model::add(_name); }
+  TemporaryModel(const TemporaryModel&) = delete;
+  TemporaryModel& operator=(const TemporaryModel&) = delete;
+  ~TemporaryModel()
+  {
+    gmsh::model::setCurrent(_name);
+    gmsh::model::mesh::removeSizeCallback();
+    gmsh::model::remove();
+  }
+
+private:
+  std::string _name;
 };
 
 } // namespace nct::meshio

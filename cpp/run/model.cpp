@@ -1,5 +1,7 @@
 #include "run/model.h"
 
+#include <functional>
+
 #include <cmath>
 #include <gmsh.h>
 
@@ -81,6 +83,68 @@ eye::Derived eye_derived(const scene::Scene& s)
   }
 }
 
+/// The eye's mesh refinement from [mesh].
+eye::Refinement eye_refinement(const scene::Scene& s, const eye::Geometry& g)
+{
+  eye::Refinement r;
+  r.layers = s.integer("mesh.layers");
+  r.size_cornea = s.real("mesh.size_cornea");
+  r.size_limbus = s.real("mesh.size_limbus");
+  r.size_sclera = s.real("mesh.size_sclera");
+  if (g.internal_structures)
+    r.size_lens = s.real("mesh.size_lens");
+  return r;
+}
+
+/// Run `build` (gmsh meshing) on rank 0; what fails there stops every
+/// rank: std::invalid_argument as a scene error, anything else as a
+/// runtime error about meshing `what`.
+void on_rank_0(MPI_Comm comm, const scene::Scene& s, const std::string& what,
+               const std::function<void()>& build)
+{
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::string error, bad_input;
+  if (rank == 0)
+  {
+    try
+    {
+      build();
+    }
+    catch (const std::invalid_argument& e)
+    {
+      bad_input = e.what();
+    }
+    catch (const std::exception& e)
+    {
+      error = e.what();
+    }
+  }
+  if (bad_input = meshio::broadcast(comm, bad_input); !bad_input.empty())
+    throw scene::Error(s.file().string() + ": " + bad_input);
+  if (error = meshio::broadcast(comm, error); !error.empty())
+    throw std::runtime_error("meshing " + what + " failed: " + error);
+}
+
+/// The air domain from [air]: each key is the field of the same name.
+air::Domain air_domain(const scene::Scene& s)
+{
+  using D = air::Domain;
+  D d;
+  for (auto [key, field] : std::vector<std::pair<const char*, double D::*>>{
+           {"radius", &D::radius},
+           {"nozzle_diameter", &D::nozzle_diameter},
+           {"nozzle_outer_diameter", &D::nozzle_outer_diameter},
+           {"nozzle_distance", &D::nozzle_distance},
+           {"nozzle_length", &D::nozzle_length},
+           {"size_nozzle", &D::size_nozzle},
+           {"size_jet", &D::size_jet},
+           {"jet_radius", &D::jet_radius},
+           {"size_far", &D::size_far}})
+    d.*field = s.real(std::string("air.") + key);
+  return d;
+}
+
 /// An external mesh's groups against the scene's materials and boundaries.
 void check_file_groups(const scene::Scene& s, const meshio::Groups& groups)
 {
@@ -104,37 +168,9 @@ MeshSetup eye_mesh(MPI_Comm comm, const scene::Scene& s)
 {
   const eye::Geometry g = eye_geometry(s);
   const eye::Derived d = eye_derived(s);
-  eye::Refinement r;
-  r.layers = s.integer("mesh.layers");
-  r.size_cornea = s.real("mesh.size_cornea");
-  r.size_limbus = s.real("mesh.size_limbus");
-  r.size_sclera = s.real("mesh.size_sclera");
-  if (g.internal_structures)
-    r.size_lens = s.real("mesh.size_lens");
+  const eye::Refinement r = eye_refinement(s, g);
 
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  // Meshing runs on rank 0; what fails there stops every rank.
-  std::string error, bad_input;
-  if (rank == 0)
-  {
-    try
-    {
-      eye::build(g, r);
-    }
-    catch (const std::invalid_argument& e)
-    {
-      bad_input = e.what();
-    }
-    catch (const std::exception& e)
-    {
-      error = e.what();
-    }
-  }
-  if (bad_input = meshio::broadcast(comm, bad_input); !bad_input.empty())
-    throw scene::Error(s.file().string() + ": " + bad_input);
-  if (error = meshio::broadcast(comm, error); !error.empty())
-    throw std::runtime_error("meshing the eye failed: " + error);
+  on_rank_0(comm, s, "the eye", [&] { eye::build(g, r); });
   MeshSetup m{meshio::distribute(comm, meshio::extract(comm)), {}, {}, {}, {}, {}, {}, {}};
   for (auto& [name, tag] : m.mesh.groups.volumes)
     m.parts[tag] = name;
@@ -247,7 +283,20 @@ void check(MPI_Comm comm, const scene::Scene& s)
 {
   puff_load(s);
   if (s.string("mesh.source") == "eye")
-    eye_derived(s);
+  {
+    const eye::Derived d = eye_derived(s);
+    if (s.string("puff.load") == "air")
+      try
+      {
+        air::validate(air_domain(s), d.apex_y, s.real("geometry.cut_y"),
+                      s.string("air.eye") == "rigid" ? s.real("geometry.sclera_outer_radius")
+                                                     : 0.0);
+      }
+      catch (const std::invalid_argument& e)
+      {
+        throw scene::Error(s.file().string() + ": " + e.what());
+      }
+  }
   else
   {
     GmshSession gmsh_session;
@@ -263,52 +312,17 @@ AirMesh make_air_mesh(MPI_Comm comm, const scene::Scene& s)
   const eye::Geometry g = eye_geometry(s);
   a.eye = eye_derived(s);
   a.cut_y = g.cut_y;
-  using D = air::Domain;
-  for (auto [key, field] : std::vector<std::pair<const char*, double D::*>>{
-           {"radius", &D::radius},
-           {"nozzle_diameter", &D::nozzle_diameter},
-           {"nozzle_outer_diameter", &D::nozzle_outer_diameter},
-           {"nozzle_distance", &D::nozzle_distance},
-           {"nozzle_length", &D::nozzle_length},
-           {"size_nozzle", &D::size_nozzle},
-           {"size_jet", &D::size_jet},
-           {"jet_radius", &D::jet_radius},
-           {"size_far", &D::size_far}})
-    a.domain.*field = s.real(std::string("air.") + key);
+  a.domain = air_domain(s);
   const bool with_eye = s.string("air.eye") == "rigid";
-  eye::Refinement r;
-  r.layers = s.integer("mesh.layers");
-  r.size_cornea = s.real("mesh.size_cornea");
-  r.size_limbus = s.real("mesh.size_limbus");
-  r.size_sclera = s.real("mesh.size_sclera");
-  if (g.internal_structures)
-    r.size_lens = s.real("mesh.size_lens");
+  const eye::Refinement r = eye_refinement(s, g);
 
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
   GmshSession gmsh_session;
-  std::string error, bad_input;
-  if (rank == 0)
-  {
-    try
-    {
-      if (with_eye)
-        eye::build(g, r);
-      air::build(a.domain, a.eye.apex_y, g.cut_y, with_eye);
-    }
-    catch (const std::invalid_argument& e)
-    {
-      bad_input = e.what();
-    }
-    catch (const std::exception& e)
-    {
-      error = e.what();
-    }
-  }
-  if (bad_input = meshio::broadcast(comm, bad_input); !bad_input.empty())
-    throw scene::Error(s.file().string() + ": " + bad_input);
-  if (error = meshio::broadcast(comm, error); !error.empty())
-    throw std::runtime_error("meshing the air failed: " + error);
+  on_rank_0(comm, s, "the air", [&] {
+    if (with_eye)
+      eye::build(g, r);
+    air::build(a.domain, a.eye.apex_y, g.cut_y, with_eye ? g.sclera_outer_radius : 0.0,
+               with_eye);
+  });
   const meshio::Model whole = meshio::extract(comm);
   const std::int32_t air_tag = static_cast<std::int32_t>(air::Group::volume);
   for (auto group : whole.cell_groups)
