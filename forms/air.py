@@ -46,7 +46,7 @@ c0 = Constant(tetrahedron)         # BDF coefficients
 c1 = Constant(tetrahedron)
 c2 = Constant(tetrahedron)
 beta = Constant(tetrahedron)       # backflow coefficient [-]
-continuity_scale = Constant(tetrahedron)  # [g/ms]: continuity rows in N
+continuity_scale = Constant(tetrahedron)  # [g/(mm^2 ms)]: continuity rows in N
 
 # Fixed quadrature: tau's square root and division make UFL's estimate explode.
 dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821

@@ -47,7 +47,11 @@ def stress(u, p, mu):
 
 
 def momentum_residual(u, p, dudt, a, rho, mu):
-    """Strong momentum residual r_M = rho (du/dt + grad(u) a) - div sigma [N/mm^3]."""
+    """Strong momentum residual r_M = rho (du/dt + grad(u) a) + grad p - mu lap u [N/mm^3].
+
+    (-div sigma differs by mu grad(div u), zero for the exact solution; both
+    viscous terms vanish on P1.)
+    """
     return rho * (dudt + grad(u) * a) + grad(p) - mu * div(grad(u))
 
 
@@ -69,8 +73,8 @@ def cell_residual(u, p, v, q, dudt, w, u_tau, rho, mu, inv_dt, cell, continuity_
     step's): they vary by orders of magnitude with the velocity, and
     differentiating them would leave Newton a far harder problem for a
     change of the stabilisation alone.
-    `continuity_scale` [g/ms] multiplies the continuity rows so that they
-    too are forces [N]: one residual norm for both equations.
+    `continuity_scale` [g/(mm^2 ms)] multiplies the continuity rows so
+    that they too are forces [N]: one residual norm for both equations.
     """
     a = u - w
     r_m = momentum_residual(u, p, dudt, a, rho, mu)

@@ -266,6 +266,9 @@ void validate(const Domain& d, double apex_y, double bottom_y, double eye_radius
     reject("air.size_nozzle", d.size_nozzle, "must be > 0 and <= air.size_far");
   if (!(apex_y > bottom_y))
     reject("geometry.cut_y", bottom_y, "must lie below the corneal apex");
+  if (eye_radius > 0 && !(d.nozzle_distance >= 10))
+    reject("air.nozzle_distance", d.nozzle_distance,
+           "must be >= 10 mm with the eye (the centreline is sampled 2 to 10 mm from the exit)");
   if (!(d.radius > eye_radius + d.size_jet))
     reject("air.radius", d.radius, "must exceed the eye's radius (geometry.sclera_outer_radius)");
 }

@@ -62,7 +62,8 @@ public:
   void set_inlet_scale(double scale);
 
   /// The next step's length [ms] and BDF order (1 or 2, variable-step
-  /// BDF2 from the last step's length); dt = infinity: steady flow.
+  /// BDF2 from the last advanced step's length; BDF1 before any): call
+  /// before every step. dt = infinity: steady flow.
   void set_time_step(double dt, int order);
   /// The converged step becomes the old state.
   void advance();

@@ -46,9 +46,15 @@ public:
   TemporaryModel& operator=(const TemporaryModel&) = delete;
   ~TemporaryModel()
   {
-    gmsh::model::setCurrent(_name);
-    gmsh::model::mesh::removeSizeCallback();
-    gmsh::model::remove();
+    try
+    {
+      gmsh::model::setCurrent(_name);
+      gmsh::model::mesh::removeSizeCallback();
+      gmsh::model::remove();
+    }
+    catch (...) // gmsh 4.8 throws strings; never out of a destructor
+    {
+    }
   }
 
 private:

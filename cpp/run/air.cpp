@@ -194,10 +194,13 @@ nlohmann::json run_air(MPI_Comm comm, const scene::Scene& s, io::RunFolder& fold
   // One state into the tables and fields; returns (apex pressure [mmHg], max |u|).
   auto sample = [&](double time, double dt, const solver::NewtonReport& report, double wall)
   {
+    // Every value first (collective; may throw), then the tables' rows.
     problem.update_fields();
     const auto u = centreline.values(*problem.velocity);
     const double p_apex = apex.values(*problem.pressure)[0][0] / mmHg;
     const double speed = max_speed(*problem.velocity);
+    const auto p = with_eye ? cornea.values(*problem.pressure)
+                            : std::vector<std::array<double, 3>>{};
     centreline_csv += format("%.6g", time);
     for (std::size_t i = 0; i < u.size(); ++i)
     {
@@ -205,14 +208,10 @@ nlohmann::json run_air(MPI_Comm comm, const scene::Scene& s, io::RunFolder& fold
       centreline_peak[i] = std::max(centreline_peak[i], -u[i][1]);
     }
     centreline_csv += "\n";
-    if (with_eye)
-    {
-      const auto p = cornea.values(*problem.pressure);
-      for (std::size_t i = 0; i < p.size(); ++i)
-        table_csv += format("%.6g,%.6g,%.6g\n", time, section[i][0], p[i][0] / mmHg);
-      if (p_apex > apex_max)
-        apex_max = p_apex, apex_max_time = time;
-    }
+    for (std::size_t i = 0; i < p.size(); ++i)
+      table_csv += format("%.6g,%.6g,%.6g\n", time, section[i][0], p[i][0] / mmHg);
+    if (with_eye && p_apex > apex_max)
+      apex_max = p_apex, apex_max_time = time;
     speed_max = std::max(speed_max, speed);
     steps_csv += format("%.6g,%.6g,%d,%.6e,%.6g,%.6g,%.6g,%.3f\n", time, dt, report.iterations,
                         report.residuals.back(), inlet(time), p_apex, speed, wall);
@@ -221,7 +220,8 @@ nlohmann::json run_air(MPI_Comm comm, const scene::Scene& s, io::RunFolder& fold
       const double t0 = MPI_Wtime();
       fields.write(*problem.velocity, time);
       fields.write(*problem.pressure, time);
-      next_output += interval;
+      while (next_output <= time + 1e-9 * interval)
+        next_output += interval;
       t_output += MPI_Wtime() - t0;
     }
     return std::pair{p_apex, speed};
@@ -253,10 +253,10 @@ nlohmann::json run_air(MPI_Comm comm, const scene::Scene& s, io::RunFolder& fold
   try
   {
     // From rest, the inlet at its t = 0 value.
-    problem.set_inlet_scale(inlet(0));
     problem.up->x()->set(0.0);
     problem.up_n->x()->set(0.0);
     problem.up_nm1->x()->set(0.0);
+    problem.set_inlet_scale(inlet(0));
     sample(0, 0, solver::NewtonReport{true, 0, {0.0}, ""}, 0);
     const int order = s.integer("air.bdf_order");
     const Stepper::Dynamics dynamics{[&](double dt) { problem.set_time_step(dt, order); },
@@ -280,7 +280,14 @@ nlohmann::json run_air(MPI_Comm comm, const scene::Scene& s, io::RunFolder& fold
   catch (const std::exception& e)
   {
     summary["error"] = e.what();
-    write_tables();
+    try
+    {
+      write_tables();
+    }
+    catch (const std::exception& w)
+    {
+      summary["error"] = std::string(e.what()) + "; writing the tables failed too: " + w.what();
+    }
     finish("failed");
     throw;
   }

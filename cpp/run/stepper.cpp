@@ -100,10 +100,11 @@ void Stepper::march(const std::string& phase, double t0, double duration, double
   while (t < end - 1e-9 * nominal)
   {
     const double step = std::min(dt, end - t);
+    // Every step: multistep coefficients depend on the steps before.
+    problem.set_time_step(step);
     if (step != last_dt)
     {
       // The Jacobian depends on dt: a kept factorisation is stale.
-      problem.set_time_step(step);
       _newton.reset();
       last_dt = step;
     }

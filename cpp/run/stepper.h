@@ -33,7 +33,7 @@ public:
   /// What marching needs of a time-dependent problem.
   struct Dynamics
   {
-    std::function<void(double dt)> set_time_step; ///< the next step's length [ms]
+    std::function<void(double dt)> set_time_step; ///< before every step: its length [ms]
     std::function<double()> load_level; ///< where in the step the loads act, in [0, 1]
     std::function<void()> advance;      ///< the converged step becomes the old state
   };
