@@ -311,7 +311,6 @@ AirMesh make_air_mesh(MPI_Comm comm, const scene::Scene& s)
   AirMesh a;
   const eye::Geometry g = eye_geometry(s);
   a.eye = eye_derived(s);
-  a.cut_y = g.cut_y;
   a.domain = air_domain(s);
   const bool with_eye = s.string("air.eye") == "rigid";
   const eye::Refinement r = eye_refinement(s, g);

@@ -53,7 +53,6 @@ struct AirMesh
   meshio::Tagged mesh;
   air::Domain domain;
   eye::Derived eye;  ///< the eye's shape (apex_y), also without the eye
-  double cut_y = 0;  ///< the eye's cut plane: the domain's bottom
   std::int64_t eye_cells = 0, air_cells = 0; ///< tetrahedra of the whole model
   double t_mesh = 0; ///< wall time of meshing and distribution [s]
 };
