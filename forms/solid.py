@@ -15,10 +15,26 @@ with P = dPsi/dF. Cells carry the tag of their material law, facets the
 tag of their load. Material parameters and fibres are per-cell (DG0)
 fields, so any number of parts can share one law.
 
-`degree` (1 or 2) and `quadrature_degree` of the cell integrals are set
-by the CMake wrapper that includes this file (nct_add_form). Facet
-integrals always use 2 * degree.
+The hyperelastic laws split Psi = Psi_iso(F) + U(J) (hgo.py,
+neo_hookean.py, volumetric.py). `variant` chooses how U is integrated:
+
+- "" (displacement): at every cell quadrature point, like Psi_iso. The
+  volumetric constraint J ~ 1 then binds at every point, and the elements
+  lock as kappa/mu grows (Hughes, The Finite Element Method, 2000, ch. 4).
+- "mixed" (displacement-pressure, P2/P0): the pressure p = U'(J) is one
+  constant per cell, condensed out of the element: the volumetric energy
+  is taken at the cell's centroid (Malkus & Hughes, CMAME 15 (1978)
+  63-81; for P2, div u is linear, so the one-point rule is the exact
+  P2/P0 mixed method at small strain; P2/P0 is inf-sup stable on
+  tetrahedra, Boffi, Brezzi & Fortin, Mixed Finite Element Methods,
+  Springer 2013, ch. 8). One constraint per
+  cell instead of one per point: no locking. Degree 2 only.
+
+`degree` (1 or 2), `quadrature_degree` of the cell integrals and `variant`
+are set by the CMake wrapper that includes this file (nct_add_form).
+Facet integrals always use 2 * degree.
 """
+import basix
 from ufl import (Coefficient, Constant, FacetNormal, FiniteElement, Measure,
                  TestFunction, TrialFunction, VectorElement, derivative, det,
                  diff, inner, grad, sqrt, tetrahedron, tr, Identity)
@@ -29,6 +45,7 @@ import hgo
 import kinematics
 import linear_elastic
 import neo_hookean
+import volumetric
 
 # Integration tags, shared with cpp/solid/problem.cpp.
 HGO, NEO_HOOKEAN, LINEAR_ELASTIC = 1, 2, 3        # cell tags: material law
@@ -61,6 +78,9 @@ surface_profile = Coefficient(nodal_scalar)  # shape f of the surface pressure [
 
 # Fixed quadrature degrees: UFL's estimate explodes on exp() (toolchain.md).
 dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
+# The volumetric energy's measure: one point (the centroid) when mixed.
+dx_volume = Measure("dx", metadata={"quadrature_degree": 1 if variant == "mixed"  # noqa: F821
+                                    else quadrature_degree})  # noqa: F821
 ds = Measure("ds", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
 
 N = FacetNormal(tetrahedron)
@@ -69,8 +89,11 @@ N = FacetNormal(tetrahedron)
 def balance(w):
     """Internal work and pressure loads at the displacement (expression) w."""
     Fw = kinematics.deformation_gradient(w)
-    return (inner(diff(hgo.energy(Fw, c10, k1, k2, kappa, fibre_1, fibre_2), Fw), grad(v)) * dx(HGO)
-            + inner(diff(neo_hookean.energy(Fw, c10, kappa), Fw), grad(v)) * dx(NEO_HOOKEAN)
+    P_volume = diff(volumetric.energy(det(Fw), kappa), Fw)
+    return (inner(diff(hgo.isochoric_energy(Fw, c10, k1, k2, fibre_1, fibre_2), Fw), grad(v))
+            * dx(HGO)
+            + inner(diff(neo_hookean.isochoric_energy(Fw, c10), Fw), grad(v)) * dx(NEO_HOOKEAN)
+            + inner(P_volume, grad(v)) * (dx_volume(HGO) + dx_volume(NEO_HOOKEAN))
             + inner(diff(linear_elastic.energy(Fw, youngs_modulus, poisson_ratio), Fw), grad(v))
             * dx(LINEAR_ELASTIC)
             + cavity.follower_pressure(p_cavity_1, Fw, N, v) * ds(CAVITY_1_WALL)
@@ -79,8 +102,9 @@ def balance(w):
 
 
 F = kinematics.deformation_gradient(u)
-psi_hgo = hgo.energy(F, c10, k1, k2, kappa, fibre_1, fibre_2)
-psi_neo_hookean = neo_hookean.energy(F, c10, kappa)
+psi_hgo = hgo.isochoric_energy(F, c10, k1, k2, fibre_1, fibre_2)
+psi_neo_hookean = neo_hookean.isochoric_energy(F, c10)
+psi_volume = volumetric.energy(det(F), kappa)
 psi_linear_elastic = linear_elastic.energy(F, youngs_modulus, poisson_ratio)
 
 R = balance(u)
@@ -102,7 +126,7 @@ dvolume_2 = derivative(volume_2, u, v)
 is_hgo = Coefficient(cell_scalar)
 is_neo_hookean = Coefficient(cell_scalar)
 is_linear_elastic = Coefficient(cell_scalar)
-P = (is_hgo * diff(psi_hgo, F) + is_neo_hookean * diff(psi_neo_hookean, F)
+P = (is_hgo * diff(psi_hgo + psi_volume, F) + is_neo_hookean * diff(psi_neo_hookean + psi_volume, F)
      + is_linear_elastic * diff(psi_linear_elastic, F))
 sigma = kinematics.cauchy_stress(P, F)
 s = sigma - tr(sigma) / 3.0 * Identity(3)
@@ -136,10 +160,19 @@ cavity_load_dynamic_1 = cavity.follower_pressure(1.0, F_mid, N, v) * ds(CAVITY_1
 cavity_load_dynamic_2 = cavity.follower_pressure(1.0, F_mid, N, v) * ds(CAVITY_2_WALL)
 
 # Energies (for checks): stored in the solid at u, kinetic at v_n.
-strain_energy = psi_hgo * dx(HGO) + psi_neo_hookean * dx(NEO_HOOKEAN) + psi_linear_elastic * dx(LINEAR_ELASTIC)
+strain_energy = (psi_hgo * dx(HGO) + psi_neo_hookean * dx(NEO_HOOKEAN)
+                 + psi_volume * (dx_volume(HGO) + dx_volume(NEO_HOOKEAN))
+                 + psi_linear_elastic * dx(LINEAR_ELASTIC))
 kinetic_energy = 0.5 * density * inner(v_old, v_old) * dx_mass
+
+# det F at the cell quadrature points and the vertices, to find inverted
+# elements (det F <= 0, where ln J is undefined) and say where they are.
+jacobian_points = ([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+                   + basix.make_quadrature(basix.CellType.tetrahedron,
+                                           quadrature_degree)[0].tolist())  # noqa: F821
+det_F = det(F)
 
 forms = [R, J, volume_1, volume_2, cavity_load_1, cavity_load_2, dvolume_1, dvolume_2,
          R_dynamic, J_dynamic, cavity_load_dynamic_1, cavity_load_dynamic_2,
          strain_energy, kinetic_energy]
-expressions = [(von_mises, [[0.25, 0.25, 0.25]])]
+expressions = [(von_mises, [[0.25, 0.25, 0.25]]), (det_F, jacobian_points)]

@@ -93,7 +93,7 @@ nct::meshio::Tagged pipe(double R, double L, double h)
 nct::solver::System air_system(nct::air::Problem& problem, std::vector<double>& no_border)
 {
   return {problem.up->x().get(), &no_border, [&](auto& r, auto&) { problem.residual(r); },
-          [&](Mat J) { problem.jacobian(J); }, nullptr};
+          [&](Mat J) { problem.jacobian(J); }, nullptr, nullptr, nullptr};
 }
 
 struct PoiseuilleError

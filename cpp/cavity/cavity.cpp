@@ -1,13 +1,51 @@
 #include "cavity/cavity.h"
 
+#include <limits>
+
+#include "io/format.h"
+
 namespace nct::cavity
 {
+namespace
+{
+
+using io::format;
+
+std::string where(const solid::Problem::Place& p)
+{
+  return format("at X = (%.3f, %.3f, %.3f) mm", p.x[0], p.x[1], p.x[2])
+         + (p.part.empty() ? "" : " in the " + p.part);
+}
+
+/// The solid's checks: inverted elements, and where the residual is largest.
+solver::System with_checks(solver::System system, const solid::Problem& problem)
+{
+  system.inadmissible = [&problem]
+  {
+    const auto w = problem.smallest_jacobian();
+    if (w.value > 0)
+      return std::string();
+    return (w.value == -std::numeric_limits<double>::infinity()
+                ? std::string("det F is NaN ")
+                : format("an element inverted: det F = %.3g ", w.value))
+           + where(w);
+  };
+  system.locate = [&problem](const dolfinx::la::Vector<double>& b)
+  {
+    const auto w = problem.largest_residual(b);
+    return format("(%.3e N) ", w.value) + where(w);
+  };
+  return system;
+}
+
+} // namespace
 
 solver::System Open::system()
 {
-  return {_problem.u->x().get(), &_none,
-          [this](auto& b, auto&) { _problem.residual(b); },
-          [this](Mat A) { _problem.jacobian(A); }, nullptr};
+  return with_checks({_problem.u->x().get(), &_none,
+                      [this](auto& b, auto&) { _problem.residual(b); },
+                      [this](Mat A) { _problem.jacobian(A); }, nullptr, nullptr, nullptr},
+                     _problem);
 }
 
 Closed::Closed(solid::Problem& problem, std::vector<double> pressures)
@@ -37,13 +75,14 @@ solver::System Closed::system()
         v = -v;
     }
   };
-  return {_problem.u->x().get(), &_pressures, residual,
-          [this](Mat A)
-          {
-            _problem.set_cavity_pressures(_pressures);
-            _problem.jacobian(A);
-          },
-          border};
+  return with_checks({_problem.u->x().get(), &_pressures, residual,
+                      [this](Mat A)
+                      {
+                        _problem.set_cavity_pressures(_pressures);
+                        _problem.jacobian(A);
+                      },
+                      border, nullptr, nullptr},
+                     _problem);
 }
 
 } // namespace nct::cavity

@@ -146,12 +146,13 @@ nlohmann::json run_air(MPI_Comm comm, const scene::Scene& s, io::RunFolder& fold
   // Full Newton steps: the energy line search has no energy to follow here.
   const solver::NewtonSettings settings{s.integer("solver.max_iterations"),
                                         s.real("solver.rtol"), s.real("solver.atol"), false,
-                                        s.string("solver.jacobian") == "reuse"};
+                                        s.string("solver.jacobian") == "reuse",
+                                        s.real("solver.max_growth")};
   Stepper stepper(newton, settings, s.integer("solver.max_step_cuts"), folder);
   std::vector<double> no_border;
   const solver::System system{problem.up->x().get(), &no_border,
                               [&](auto& b, auto&) { problem.residual(b); },
-                              [&](Mat J) { problem.jacobian(J); }, nullptr};
+                              [&](Mat J) { problem.jacobian(J); }, nullptr, nullptr, nullptr};
 
   // Probes: the centreline, the apex and the anterior cornea's section.
   const double y_exit = a.eye.apex_y + a.domain.nozzle_distance;

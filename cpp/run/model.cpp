@@ -282,6 +282,9 @@ std::unique_ptr<puff::Load> puff_load(const scene::Scene& s)
 void check(MPI_Comm comm, const scene::Scene& s)
 {
   puff_load(s);
+  if (s.string("fem.formulation") == "mixed" && s.integer("fem.degree") != 2)
+    throw scene::Error(s.file().string() + ": key 'fem.formulation': \"mixed\" (P2/P0) needs "
+                       "fem.degree = 2, got " + std::to_string(s.integer("fem.degree")));
   if (s.string("mesh.source") == "eye")
   {
     const eye::Derived d = eye_derived(s);
@@ -356,7 +359,10 @@ Model make_model(MPI_Comm comm, const scene::Scene& s)
   for (auto& [tag, part] : m.parts)
     materials[part] = solid::read_material(s, part);
   model.problem = std::make_unique<solid::Problem>(
-      m.mesh, s.integer("fem.degree"), s.string("fem.quadrature") == "reduced", m.parts,
+      m.mesh,
+      solid::Element{s.integer("fem.degree"), s.string("fem.quadrature") == "reduced",
+                     s.string("fem.formulation") == "mixed"},
+      m.parts,
       materials, m.fibres, m.boundaries, m.volume_origin);
   model.t_setup = MPI_Wtime() - t;
   return model;

@@ -159,7 +159,8 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
 
   const solver::NewtonSettings settings{
       s.integer("solver.max_iterations"), s.real("solver.rtol"), s.real("solver.atol"),
-      s.string("solver.line_search") == "energy", s.string("solver.jacobian") == "reuse"};
+      s.string("solver.line_search") == "energy", s.string("solver.jacobian") == "reuse",
+      s.real("solver.max_growth")};
   Stepper stepper(newton, settings, s.integer("solver.max_step_cuts"), folder);
   const std::size_t n_cavities = problem.cavities();
   const double iop = s.real("inflate.iop") * mmHg;

@@ -25,15 +25,27 @@ std::string history(const std::vector<double>& residuals)
 struct Saved
 {
   explicit Saved(const solver::System& s) : x(*s.x), y(*s.y) {}
-  void keep(const solver::System& s)
+  void keep(const solver::System& s) { keep(*s.x, *s.y); }
+  void keep(const Saved& other) { keep(other.x, other.y); }
+  void keep(const dolfinx::la::Vector<double>& x_new, const std::vector<double>& y_new)
   {
-    std::copy(s.x->array().begin(), s.x->array().end(), x.mutable_array().begin());
-    y = *s.y;
+    std::copy(x_new.array().begin(), x_new.array().end(), x.mutable_array().begin());
+    y = y_new;
   }
   void restore(const solver::System& s) const
   {
     std::copy(x.array().begin(), x.array().end(), s.x->mutable_array().begin());
     *s.y = y;
+  }
+  /// The predictor of a ramp: (x, y) = this + r (this - earlier), the
+  /// secant through the last two converged states.
+  void extrapolate(const Saved& earlier, double r, const solver::System& s) const
+  {
+    auto out = s.x->mutable_array();
+    for (std::size_t i = 0; i < out.size(); ++i)
+      out[i] = x.array()[i] + r * (x.array()[i] - earlier.x.array()[i]);
+    for (std::size_t i = 0; i < y.size(); ++i)
+      (*s.y)[i] = y[i] + r * (y[i] - earlier.y[i]);
   }
   dolfinx::la::Vector<double> x;
   std::vector<double> y;
@@ -57,14 +69,17 @@ void Stepper::ramp(const std::string& phase, int steps, const solver::System& sy
                    const std::function<void(double)>& load,
                    const std::function<void(double, const solver::NewtonReport&)>& done)
 {
-  Saved saved(system);
+  // The last two converged states: `saved` at `reached`, `before` at `f_before`.
+  Saved saved(system), before(system);
   const double nominal = 1.0 / steps, floor = std::ldexp(nominal, -_max_cuts);
-  double reached = 0, increment = nominal;
+  double reached = 0, increment = nominal, f_before = -1;
   int successes = 0;
   while (reached < 1.0 - 1e-12)
   {
     const double target = std::min(1.0, reached + increment);
     load(target);
+    if (f_before >= 0)
+      saved.extrapolate(before, (target - reached) / (reached - f_before), system);
     solver::NewtonReport report;
     if (!attempt(format("%s %.4f", phase.c_str(), target), system, report))
     {
@@ -80,6 +95,8 @@ void Stepper::ramp(const std::string& phase, int steps, const solver::System& sy
       successes = 0;
       continue;
     }
+    before.keep(saved);
+    f_before = reached;
     reached = target;
     saved.keep(system);
     if (++successes >= 2 && increment < nominal)

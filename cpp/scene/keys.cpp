@@ -141,6 +141,12 @@ std::vector<Key> declare()
                "cell quadrature: reduced = degree 2(p-1), at least 1 (the 1- and 4-point "
                "rules of the standard linear and quadratic tetrahedra, exact for linear "
                "elasticity); full = degree 2p, about 3x dearer assembly at p = 2"});
+  k.push_back({"fem.formulation", K::choice, "\"displacement\"", "", -inf, inf,
+               {"displacement", "mixed"},
+               "displacement = u only: the volumetric energy kappa/2 (ln J)^2 at every "
+               "quadrature point (locks as kappa/mu grows); mixed = displacement-pressure "
+               "P2/P0, the pressure constant per cell and condensed out (the volumetric "
+               "energy at the centroid): no locking; needs fem.degree = 2"});
   // boundaries of an external mesh (the eye's are built in)
   std::size_t file_keys = k.size();
   k.push_back({"boundary.fixed", K::strings, "[]", "", -inf, inf, {},
@@ -297,6 +303,9 @@ std::vector<Key> declare()
                "reuse = keep the factorised Jacobian while each Newton iteration cuts the "
                "residual at least 4x (fewer factorisations); every_iteration = full Newton "
                "(quadratic convergence)"});
+  k.push_back({"solver.max_growth", K::real, "1e4", "", 2, 1e12, {},
+               "Newton counts as diverging (and the step is cut) once the residual norm "
+               "exceeds this multiple of its smallest value in the solve"});
   k.push_back({"solver.max_step_cuts", K::integer, "8", "", 0, 30, {},
                "a failed load step is halved, down to 2^-max_step_cuts of the nominal step; "
                "failing there stops the run"});
@@ -345,7 +354,8 @@ void check_consistency(const Scene& s)
     if (s.string("mesh.file").empty())
       fail("key 'mesh.file': mesh.source = \"file\" needs a mesh file");
     auto mesh = s.path("mesh.file");
-    if (!std::filesystem::is_regular_file(mesh))
+    std::error_code ec; // e.g. a name too long
+    if (!std::filesystem::is_regular_file(mesh, ec))
       fail("key 'mesh.file': file '" + s.string("mesh.file")
            + "' not found (looked for " + mesh.string() + ")");
     auto ext = mesh.extension().string();

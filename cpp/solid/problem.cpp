@@ -1,6 +1,9 @@
 #include "solid/problem.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numeric>
 #include <set>
 #include <stdexcept>
 
@@ -15,6 +18,8 @@
 #include "solid_p1_reduced.h"
 #include "solid_p2_full.h"
 #include "solid_p2_reduced.h"
+#include "solid_p2_full_mixed.h"
+#include "solid_p2_reduced_mixed.h"
 
 namespace nct::solid
 {
@@ -33,6 +38,7 @@ struct Kernels
   ufcx_form* strain_energy;
   ufcx_form* kinetic_energy;
   ufcx_expression* von_mises;
+  ufcx_expression* det_F;
   ufcx_function_space* (*space)(const char*);
 };
 
@@ -45,15 +51,19 @@ struct Kernels
            form_solid_##v##_cavity_load_dynamic_2},                               \
           form_solid_##v##_R_dynamic, form_solid_##v##_J_dynamic,                 \
           form_solid_##v##_strain_energy, form_solid_##v##_kinetic_energy,         \
-          expression_solid_##v##_von_mises, functionspace_form_solid_##v##_R}
+          expression_solid_##v##_von_mises, expression_solid_##v##_det_F,         \
+          functionspace_form_solid_##v##_R}
 
-Kernels kernels(int degree, bool reduced)
+Kernels kernels(const Element& e)
 {
-  if (degree == 1)
-    return reduced ? NCT_SOLID_KERNELS(p1_reduced) : NCT_SOLID_KERNELS(p1_full);
-  if (degree == 2)
-    return reduced ? NCT_SOLID_KERNELS(p2_reduced) : NCT_SOLID_KERNELS(p2_full);
-  throw std::invalid_argument("fem.degree must be 1 or 2");
+  if (e.degree == 1 && !e.mixed)
+    return e.reduced_quadrature ? NCT_SOLID_KERNELS(p1_reduced) : NCT_SOLID_KERNELS(p1_full);
+  if (e.degree == 2 && !e.mixed)
+    return e.reduced_quadrature ? NCT_SOLID_KERNELS(p2_reduced) : NCT_SOLID_KERNELS(p2_full);
+  if (e.degree == 2)
+    return e.reduced_quadrature ? NCT_SOLID_KERNELS(p2_reduced_mixed)
+                                : NCT_SOLID_KERNELS(p2_full_mixed);
+  throw std::invalid_argument("the mixed formulation needs fem.degree = 2");
 }
 
 /// Facet tags of forms/solid.py.
@@ -99,14 +109,14 @@ int normal_axis(const mesh::Mesh& mesh, const mesh::MeshTags<std::int32_t>& face
 
 } // namespace
 
-Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
+Problem::Problem(const meshio::Tagged& m, const Element& element,
                  const std::map<std::int32_t, std::string>& parts,
                  const std::map<std::string, Material>& materials,
                  const FibreRule& fibres, const Boundaries& boundaries,
                  std::array<double, 3> volume_origin)
     : _cells(m.cells), _parts(parts), _materials(materials), _fibres(fibres)
 {
-  const Kernels k = kernels(degree, reduced_quadrature);
+  const Kernels k = kernels(element);
   auto V = std::make_shared<fem::FunctionSpace>(
       fem::create_functionspace(k.space, "u", m.mesh));
   auto Q0 = std::make_shared<fem::FunctionSpace>(
@@ -206,6 +216,8 @@ Problem::Problem(const meshio::Tagged& m, int degree, bool reduced_quadrature,
   }
   _von_mises = std::make_shared<fem::Expression<double>>(
       fem::create_expression<double>(*k.von_mises, coeffs, {}, m.mesh));
+  _det_F = std::make_shared<fem::Expression<double>>(
+      fem::create_expression<double>(*k.det_F, coeffs, {}, m.mesh));
 
   // Dirichlet conditions: clamped groups, and one component per symmetry plane.
   auto facets_of = [&](std::int32_t g) { return m.facets->find(g); };
@@ -396,6 +408,100 @@ Problem::displacement_at(const std::vector<std::array<double, 3>>& points) const
 }
 
 void Problem::update_von_mises() { von_mises->interpolate(*_von_mises); }
+
+Problem::Place Problem::place(std::int32_t cell, double value) const
+{
+  const auto& mesh = *u->function_space()->mesh();
+  auto nodes = mesh.geometry().dofmap().links(cell);
+  Place p{value, {0, 0, 0}, ""};
+  for (auto n : nodes)
+    for (int j = 0; j < 3; ++j)
+      p.x[j] += mesh.geometry().x()[3 * n + j] / nodes.size();
+  auto cells = _cells->indices();
+  auto it = std::lower_bound(cells.begin(), cells.end(), cell);
+  if (it != cells.end() && *it == cell)
+    if (auto part = _parts.find(_cells->values()[it - cells.begin()]); part != _parts.end())
+      p.part = part->second;
+  return p;
+}
+
+Problem::Place Problem::gather(const Place& local) const
+{
+  MPI_Comm comm = u->function_space()->mesh()->comm();
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  struct
+  {
+    double value;
+    int rank;
+  } mine{local.value, rank}, best;
+  MPI_Allreduce(&mine, &best, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm);
+  Place p = local;
+  p.value = best.value;
+  MPI_Bcast(p.x.data(), 3, MPI_DOUBLE, best.rank, comm);
+  int n = static_cast<int>(p.part.size());
+  MPI_Bcast(&n, 1, MPI_INT, best.rank, comm);
+  p.part.resize(n);
+  MPI_Bcast(p.part.data(), n, MPI_CHAR, best.rank, comm);
+  return p;
+}
+
+Problem::Place Problem::smallest_jacobian() const
+{
+  const auto& mesh = *u->function_space()->mesh();
+  const std::int32_t n = mesh.topology().index_map(3)->size_local();
+  std::vector<std::int32_t> cells(n);
+  std::iota(cells.begin(), cells.end(), 0);
+  const std::size_t points = _det_F->X().second[0];
+  struct Table
+  {
+    double& operator()(std::size_t i, std::size_t j) { return data[i * cols + j]; }
+    std::vector<double> data;
+    std::size_t cols;
+  } values{std::vector<double>(n * points), points};
+  _det_F->eval(std::span<const std::int32_t>(cells), values);
+  // NaN counts as smallest: a NaN displacement is as inadmissible as a fold.
+  std::int32_t worst = -1;
+  double smallest = std::numeric_limits<double>::infinity();
+  for (std::int32_t c = 0; c < n; ++c)
+    for (std::size_t q = 0; q < points; ++q)
+    {
+      const double v = values(c, q);
+      if (std::isnan(v) || v < smallest)
+      {
+        smallest = std::isnan(v) ? -std::numeric_limits<double>::infinity() : v;
+        worst = c;
+      }
+    }
+  return gather(worst < 0 ? Place{smallest, {0, 0, 0}, ""} : place(worst, smallest));
+}
+
+Problem::Place Problem::largest_residual(const la::Vector<double>& b) const
+{
+  // The negative magnitude, so that the smallest wins in gather().
+  const std::int32_t n = b.map()->size_local() * b.bs();
+  std::int32_t worst = -1;
+  double largest = -1;
+  for (std::int32_t i = 0; i < n; ++i)
+  {
+    const double v = std::isfinite(b.array()[i]) ? std::abs(b.array()[i])
+                                                 : std::numeric_limits<double>::infinity();
+    if (v > largest)
+      largest = v, worst = i;
+  }
+  Place p{-largest, {0, 0, 0}, ""};
+  if (worst >= 0)
+  {
+    auto V = u->function_space();
+    const auto x = V->tabulate_dof_coordinates(false);
+    const int node = worst / b.bs();
+    for (int j = 0; j < 3; ++j)
+      p.x[j] = x[3 * node + j];
+  }
+  p = gather(p);
+  p.value = -p.value;
+  return p;
+}
 
 std::int64_t Problem::dofs() const
 {

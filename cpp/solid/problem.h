@@ -38,17 +38,23 @@ struct TimeStep
   double damping = 0;   ///< mass-proportional damping [1/ms]
 };
 
+/// The discretisation of the solid.
+struct Element
+{
+  int degree = 2;                  ///< of the displacement: 1 or 2
+  bool reduced_quadrature = true;  ///< cells at degree 2(degree-1), else 2 degree
+  bool mixed = false;              ///< displacement-pressure P2/P0 (forms/solid.py)
+};
+
 /// Residual, Jacobian and derived quantities of the solid at the current u.
 /// Quasi-static until start_dynamics(); then each residual is the
 /// generalised-alpha balance of the step from (u_old, v_old, a_old) to u.
 class Problem
 {
 public:
-  /// `degree` of the displacement; `reduced_quadrature` integrates cells
-  /// at degree 2(degree-1) instead of 2 degree; `fibres` gives the fibre
-  /// directions of a part at a reference point; `volume_origin` is the
-  /// point the cavity volume is taken about.
-  Problem(const meshio::Tagged& mesh, int degree, bool reduced_quadrature,
+  /// `fibres` gives the fibre directions of a part at a reference point;
+  /// `volume_origin` is the point the cavity volume is taken about.
+  Problem(const meshio::Tagged& mesh, const Element& element,
           const std::map<std::int32_t, std::string>& parts,
           const std::map<std::string, Material>& materials,
           const FibreRule& fibres, const Boundaries& boundaries,
@@ -110,6 +116,21 @@ public:
   /// Von Mises stress per cell (for output).
   void update_von_mises();
 
+  /// A value found somewhere in the mesh: where (the reference centroid of
+  /// its cell, or its node) and in which part.
+  struct Place
+  {
+    double value;
+    std::array<double, 3> x; ///< [mm], reference coordinates
+    std::string part;        ///< empty if unknown
+  };
+  /// The smallest det F over every cell's quadrature points and vertices
+  /// (-inf if any is NaN), and where; collective, the same on every rank.
+  Place smallest_jacobian() const;
+  /// The largest |b_i| of a residual (inf if any is NaN or Inf), and at
+  /// which node; collective.
+  Place largest_residual(const dolfinx::la::Vector<double>& b) const;
+
   std::shared_ptr<dolfinx::fem::Function<double>> u;          ///< displacement [mm]
   std::shared_ptr<dolfinx::fem::Function<double>> von_mises;  ///< [MPa], DG0
   std::shared_ptr<dolfinx::fem::Function<double>> surface_profile; ///< [-], P1
@@ -133,7 +154,11 @@ private:
   /// Per cavity: volume, unit-pressure load, volume derivative.
   std::vector<std::shared_ptr<dolfinx::fem::Form<double>>> _volumes, _cavity_loads,
       _dvolumes, _cavity_loads_dynamic;
-  std::shared_ptr<dolfinx::fem::Expression<double>> _von_mises;
+  std::shared_ptr<dolfinx::fem::Expression<double>> _von_mises, _det_F;
+  /// A local cell's place, with `value`.
+  Place place(std::int32_t cell, double value) const;
+  /// Of every rank's place, the one with the smallest value, on every rank.
+  Place gather(const Place& local) const;
   std::vector<std::shared_ptr<dolfinx::fem::Constant<double>>> _p_cavities;
   std::shared_ptr<dolfinx::fem::Constant<double>> _p_surface, _x0;
   std::vector<std::shared_ptr<const dolfinx::fem::DirichletBC<double>>> _bcs;

@@ -56,6 +56,15 @@ std::vector<double> solve_dense(std::vector<double> S, std::vector<double> r)
   return r;
 }
 
+/// The reason of a diverging solve.
+std::string format_growth(double smallest, double r, double limit)
+{
+  std::ostringstream s;
+  s << "diverging: the residual norm grew from " << smallest << " to " << r
+    << ", beyond " << limit << " times (solver.max_growth)";
+  return s.str();
+}
+
 } // namespace
 
 void set_petsc_options(const std::vector<std::pair<std::string, std::string>>& options)
@@ -202,6 +211,12 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
                       "on the field)";
       break;
     }
+    if (!std::isfinite(dot(dx, dx)))
+    {
+      report.reason = "the linear solver returned NaN or Inf (a singular or "
+                      "ill-conditioned Jacobian)";
+      break;
+    }
     dx.scatter_fwd();
     std::copy(b.array().begin(), b.array().end(), b_start.mutable_array().begin());
     g_start = g;
@@ -221,10 +236,26 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
         y[i] = y_old[i] - alpha * dy[i];
       return assemble_residual();
     };
+    // Why the state at the last take() is unusable; empty if it is usable.
+    // An inverted element first: it is often why the residual is NaN.
+    auto unusable = [&](double r_try) -> std::string
+    {
+      std::string why = system.inadmissible ? system.inadmissible() : std::string();
+      if (why.empty() && !std::isfinite(r_try))
+        why = "the residual is NaN or Inf";
+      return why;
+    };
     double alpha = 1.0, r_new = take(alpha);
-    while (!std::isfinite(r_new) && alpha > 1.0 / 64)
-      r_new = take(alpha /= 2);
-    if (settings.line_search && std::isfinite(r_new))
+    std::string why = unusable(r_new);
+    while (!why.empty() && alpha > 1.0 / 64)
+      why = unusable(r_new = take(alpha /= 2));
+    if (!why.empty())
+    {
+      report.reason = why + " even with the Newton step cut to 1/64";
+      ++report.iterations;
+      break;
+    }
+    if (settings.line_search)
     {
       const double s0 = slope(b_start, g_start);
       double s = slope(b, g);
@@ -234,7 +265,7 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
         // Secant between (0, s0) and (alpha, s), kept within [alpha/10, alpha].
         const double next = std::clamp(alpha * s0 / (s0 - s), 0.1 * alpha, alpha);
         const double r_try = take(next);
-        if (!std::isfinite(r_try))
+        if (!unusable(r_try).empty())
         {
           at_alpha = false;
           break;
@@ -247,9 +278,13 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
     ++report.iterations;
     r = r_new;
     report.residuals.push_back(r);
-    if (!std::isfinite(r))
-      report.reason = "the residual became NaN or Inf";
+    const double smallest
+        = *std::min_element(report.residuals.begin(), report.residuals.end());
+    if (r > settings.max_growth * smallest)
+      report.reason = format_growth(smallest, r, settings.max_growth);
   }
+  if (!report.converged && system.locate)
+    report.reason += "; the residual is largest " + system.locate(b);
   VecDestroy(&b_petsc);
   VecDestroy(&dx_petsc);
   for (std::size_t i = 0; i < ny; ++i)

@@ -23,6 +23,9 @@ struct NewtonSettings
   /// each iteration after a solve's first cuts the residual at least 4x;
   /// refactorise otherwise.
   bool reuse_jacobian = false;
+  /// The solve counts as diverging once the residual norm exceeds this
+  /// multiple of its smallest value so far.
+  double max_growth = 1e4;
 };
 
 /// What happened in one Newton solve.
@@ -73,6 +76,12 @@ struct System
   std::function<void(std::vector<dolfinx::la::Vector<double>>& B,
                      std::vector<dolfinx::la::Vector<double>>& C)>
       border;
+  /// Why the current (x, y) is not admissible (e.g. an inverted element,
+  /// and where), empty if it is; collective. Null: every state is. A step
+  /// into an inadmissible state is halved like one to a non-finite residual.
+  std::function<std::string()> inadmissible;
+  /// Where the residual b is largest, for the failure report; collective.
+  std::function<std::string(const dolfinx::la::Vector<double>& b)> locate;
 };
 
 /// Newton's method on a System the caller owns.
