@@ -155,6 +155,10 @@ Groups open(MPI_Comm comm, const std::filesystem::path& file)
   return groups_of_current_model(comm);
 }
 
+/// The current gmsh model's tetrahedra, facets and nodes into m (its
+/// groups set); throws on a surface node that no tetrahedron uses.
+static void read_mesh(Model& m);
+
 Model extract(MPI_Comm comm, double size_max)
 {
   Model m;
@@ -184,9 +188,23 @@ Model extract(MPI_Comm comm, double size_max)
   }
   if (error = broadcast(comm, error); !error.empty())
     throw std::runtime_error(error);
-  if (rank(comm) != 0)
-    return m;
+  // Rank 0 reads the mesh; what fails there stops every rank (no hang).
+  if (rank(comm) == 0)
+    try
+    {
+      read_mesh(m);
+    }
+    catch (const std::exception& e)
+    {
+      error = e.what();
+    }
+  if (error = broadcast(comm, error); !error.empty())
+    throw std::runtime_error(error);
+  return m;
+}
 
+static void read_mesh(Model& m)
+{
   // Tetrahedra per volume group, then compact node numbering.
   std::unordered_map<std::size_t, std::int64_t> index;
   auto node_index = [&](std::size_t tag)
@@ -224,7 +242,6 @@ Model extract(MPI_Comm comm, double size_max)
   for (std::size_t i = 0; i < tags.size(); ++i)
     if (auto it = index.find(tags[i]); it != index.end())
       std::copy_n(coord.begin() + 3 * i, 3, m.x.begin() + 3 * it->second);
-  return m;
 }
 
 Model keep(const Model& model, const std::vector<std::int32_t>& volume_groups)
