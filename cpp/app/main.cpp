@@ -50,7 +50,18 @@ int main(int argc, char* argv[])
   auto* describe = app.add_subcommand("describe", "print every scene key with its documentation");
   describe->add_flag("--markdown", markdown, "as a Markdown table");
 
-  CLI11_PARSE(app, argc, argv);
+  try
+  {
+    app.parse(argc, argv);
+  }
+  catch (const CLI::ParseError& e)
+  {
+    if (e.get_exit_code() == 0) // --help
+      return app.exit(e);
+    // Bad command lines are bad input too: exit code 2.
+    std::cerr << "error: " << e.what() << "; 'nct --help' lists the options" << std::endl;
+    return 2;
+  }
 
   if (describe->parsed())
   {

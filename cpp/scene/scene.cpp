@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <sstream>
 
@@ -103,6 +104,15 @@ std::string accepted(const Key& key)
   return what;
 }
 
+/// A number node as a double (toml++'s value<double>() refuses integers
+/// beyond 2^53, e.g. 9007199254740993).
+double number(const toml::node& n)
+{
+  if (const auto* i = n.as_integer())
+    return static_cast<double>(i->get());
+  return n.as_floating_point()->get();
+}
+
 std::string source_text(const toml::node& n)
 {
   std::ostringstream s;
@@ -154,7 +164,7 @@ void check_value(const Key& key, const std::string& name, const toml::node& n,
   {
     if (!n.is_number())
       fail("got " + source_text(n));
-    double v = n.value<double>().value();
+    double v = number(n);
     if (!std::isfinite(v) || v < key.min || v > key.max)
       fail("got " + source_text(n) + ", out of range");
     break;
@@ -186,7 +196,7 @@ void check_value(const Key& key, const std::string& name, const toml::node& n,
         ok = ok && a && a->size() == 3;
         if (ok)
           for (const auto& c : *a)
-            ok = ok && c.is_number() && std::isfinite(c.value<double>().value());
+            ok = ok && c.is_number() && std::isfinite(number(c));
       }
     if (!ok)
       fail("got " + source_text(n));
@@ -220,11 +230,46 @@ std::string suggestion(const std::string& name)
   std::size_t best_d = 4;
   for (const Key& k : keys())
   {
+    // The distance is at least the difference in length (a long name
+    // would take seconds).
+    if (std::max(k.name.size(), name.size()) - std::min(k.name.size(), name.size()) >= best_d)
+      continue;
     std::size_t d = edit_distance(k.name, name);
     if (d < best_d)
       best = &k, best_d = d;
   }
   return best ? " (did you mean '" + best->name + "'?)" : "";
+}
+
+/// Does a table of this name hold declared keys (material, material.cornea)?
+bool declared_table(const std::string& name)
+{
+  const auto levels = std::count(name.begin(), name.end(), '.') + 1;
+  for (const Key& k : keys())
+  {
+    // the key's first `levels` segments
+    std::size_t end = 0;
+    for (long l = 0; l < levels && end != std::string::npos; ++l)
+      end = k.name.find('.', l == 0 ? 0 : end + 1);
+    if (end != std::string::npos && matches(k.name.substr(0, end), name))
+      return true;
+  }
+  return false;
+}
+
+/// The first leaf under a node (itself if a value or an empty table); its
+/// dotted name is appended to `name`. Errors about a table point there
+/// (tables made by --set have no source of their own).
+const toml::node& first_leaf(const toml::node& n, std::string& name)
+{
+  const toml::node* leaf = &n;
+  while (leaf->is_table() && !leaf->as_table()->empty())
+  {
+    auto first = leaf->as_table()->begin();
+    name.append(".").append(first->first.str());
+    leaf = &first->second;
+  }
+  return *leaf;
 }
 
 /// Check every leaf of a user table against the declared keys.
@@ -233,18 +278,31 @@ void check_table(const toml::table& t, const std::string& prefix,
 {
   for (auto&& [k, v] : t)
   {
-    std::string name = prefix.empty() ? std::string(k.str())
-                                      : prefix + "." + std::string(k.str());
+    const std::string part(k.str());
+    std::string name = prefix.empty() ? part : prefix + "." + part;
+    // Names are joined with '.' and looked up as paths ("x[0]" indexes);
+    // "*" stands for any name in the declared keys.
+    if (part.empty() || part.find_first_of(".[]*") != std::string::npos)
+    {
+      std::string leaf_name;
+      throw Error(origin(first_leaf(v, leaf_name), file) + ": key '" + name + "': the name \""
+                  + part + "\" is empty or holds '.', '[', ']' or '*'");
+    }
     const Key* key = find_key(name);
-    if (v.is_table() && !(key && key->kind == Kind::options))
+    if (key)
+    {
+      check_value(*key, name, v, origin(v, file)); // a table too: wrong type
+      continue;
+    }
+    if (v.is_table() && declared_table(name))
     {
       check_table(*v.as_table(), name, file);
       continue;
     }
-    if (!key)
-      throw Error(origin(v, file) + ": unknown key '" + name + "'"
-                  + suggestion(name) + "; 'nct describe' lists every key");
-    check_value(*key, name, v, origin(v, file));
+    // Unknown: name its first leaf (zero_presure.enabled), or the empty table.
+    const toml::node& leaf = first_leaf(v, name);
+    throw Error(origin(leaf, file) + ": unknown key '" + name + "'" + suggestion(name)
+                + "; 'nct describe' lists every key");
   }
 }
 
@@ -270,15 +328,42 @@ void insert_at(toml::table& t, const std::string& name, toml::node&& value,
 toml::table parse_literal(const std::string& literal,
                           const std::string& where)
 {
+  toml::table t;
   try
   {
-    return toml::parse("v = " + literal, where);
+    t = toml::parse("v = " + literal, where);
   }
   catch (const toml::parse_error&)
   {
     // Bare words are strings: --set mesh.source=file
-    return toml::parse("v = \"" + literal + "\"", where);
+    try
+    {
+      t = toml::parse("v = \"" + literal + "\"", where);
+    }
+    catch (const toml::parse_error&)
+    {
+      throw Error(where + ": '" + literal + "' is neither a TOML value nor a bare word");
+    }
   }
+  if (t.size() != 1) // "5\nfoo = 1"
+    throw Error(where + ": more than one value after '='");
+  return t;
+}
+
+/// toml++ recurses once per level of nested tables in its parser and
+/// overflows the stack near 30000 levels (a.a.a... = 1); a scene's keys
+/// nest 3 deep. Refuse text that could nest far deeper before parsing it.
+void check_nesting(std::istream& in, const std::string& where)
+{
+  constexpr std::size_t max_dots = 1000;
+  std::size_t line = 1, dots = 0;
+  for (char c; in.get(c);)
+    if (c == '\n')
+      ++line, dots = 0;
+    else if (c == '.' && ++dots > max_dots)
+      throw Error(where + ":" + std::to_string(line) + ": more than "
+                  + std::to_string(max_dots)
+                  + " '.' on one line; a scene's keys nest at most 3 deep");
 }
 
 /// A scalar node as text: strings bare, booleans "true"/"false".
@@ -345,11 +430,14 @@ Scene Scene::load(const std::filesystem::path& file,
                   const std::vector<std::string>& overrides)
 {
   const std::string fname = file.string();
-  if (!std::filesystem::is_regular_file(file))
-    throw Error(fname + ": scene file not found");
+  std::error_code ec; // e.g. a name too long
+  if (!std::filesystem::is_regular_file(file, ec))
+    throw Error((fname.empty() ? "\"\"" : fname) + ": scene file not found");
   toml::table user;
   try
   {
+    std::ifstream text(file);
+    check_nesting(text, fname);
     user = toml::parse_file(fname);
   }
   catch (const toml::parse_error& e)
@@ -363,6 +451,8 @@ Scene Scene::load(const std::filesystem::path& file,
   for (const std::string& o : overrides)
   {
     const std::string where = "--set " + o;
+    std::istringstream text(o);
+    check_nesting(text, where);
     auto eq = o.find('=');
     if (eq == std::string::npos || eq == 0)
       throw Error(where + ": expected section.key=value");
@@ -459,7 +549,7 @@ int Scene::integer(const std::string& key) const
 
 double Scene::real(const std::string& key) const
 {
-  return node(key).value<double>().value();
+  return number(node(key));
 }
 
 std::string Scene::string(const std::string& key) const
@@ -481,8 +571,7 @@ std::vector<std::array<double, 3>> Scene::points(const std::string& key) const
   for (const auto& p : *node(key).as_array())
   {
     const auto& a = *p.as_array();
-    out.push_back({a[0].value<double>().value(), a[1].value<double>().value(),
-                   a[2].value<double>().value()});
+    out.push_back({number(a[0]), number(a[1]), number(a[2])});
   }
   return out;
 }
