@@ -303,7 +303,16 @@ void check(MPI_Comm comm, const scene::Scene& s)
   else
   {
     GmshSession gmsh_session;
-    check_file_groups(s, meshio::open(comm, s.path("mesh.file")));
+    meshio::Groups groups;
+    try
+    {
+      groups = meshio::open(comm, s.path("mesh.file"));
+    }
+    catch (const std::runtime_error& e) // every rank: open() broadcasts its error
+    {
+      throw scene::Error(s.file().string() + ": key 'mesh.file': " + e.what());
+    }
+    check_file_groups(s, groups);
   }
 }
 
