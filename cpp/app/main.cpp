@@ -1,10 +1,11 @@
-// nct: the command-line front end (check, run, describe).
+// nct: the command-line front end (check, run, study, describe).
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include <sstream>
 
 #include "run/run.h"
 #include "scene/scene.h"
+#include "study/study.h"
 
 namespace
 {
@@ -47,6 +48,17 @@ int main(int argc, char* argv[])
   run->add_option("--out", out, "run folder (default: runs/<scene name>)");
   run->add_option("--petsc", petsc, "PETSc options, e.g. \"-ksp_type cg -pc_type gamg\"");
 
+  std::string study_file;
+  int jobs = 0;
+  bool dry_run = false;
+  auto* study = app.add_subcommand("study", "run a study (a design over a scene's keys) and "
+                                            "analyse it; resumes an interrupted one");
+  study->add_option("study", study_file, "study file (TOML)")->required();
+  study->add_option("--out", out, "study folder (default: studies/<study name>)");
+  study->add_option("--jobs", jobs, "cases at once (default: the study's)")
+      ->check(CLI::Range(1, 4096));
+  study->add_flag("--dry-run", dry_run, "check every case and list them; run none");
+
   auto* describe = app.add_subcommand("describe", "print every scene key with its documentation");
   describe->add_flag("--markdown", markdown, "as a Markdown table");
 
@@ -67,6 +79,34 @@ int main(int argc, char* argv[])
   {
     std::cout << nct::scene::describe(markdown);
     return 0;
+  }
+
+  // A study starts each case as an MPI job of its own: it is no MPI
+  // process itself.
+  if (study->parsed())
+  {
+    try
+    {
+      auto s = nct::study::Study::load(study_file);
+      nct::study::Options options;
+      options.out = out.empty() ? std::filesystem::path("studies")
+                                      / std::filesystem::path(study_file).stem()
+                                : std::filesystem::path(out);
+      options.program = std::filesystem::read_symlink("/proc/self/exe");
+      options.jobs = jobs;
+      options.dry_run = dry_run;
+      return nct::study::run(s, options);
+    }
+    catch (const nct::scene::Error& e)
+    {
+      std::cerr << "error: " << e.what() << std::endl;
+      return 2;
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "error: " << e.what() << std::endl;
+      return 1;
+    }
   }
 
   nct::Runtime runtime(argv[0]);

@@ -5,6 +5,19 @@
 namespace nct::io
 {
 
+void write_atomic(const std::filesystem::path& file, const std::string& text)
+{
+  auto tmp = file;
+  tmp += ".tmp";
+  {
+    std::ofstream f(tmp);
+    f << text;
+    if (!f.good())
+      throw std::runtime_error("cannot write " + tmp.string());
+  }
+  std::filesystem::rename(tmp, file);
+}
+
 RunFolder::RunFolder(MPI_Comm comm, std::filesystem::path dir)
     : _comm(comm), _dir(std::move(dir))
 {
@@ -29,14 +42,7 @@ void RunFolder::write_text(const std::string& name, const std::string& text) con
   MPI_Comm_rank(_comm, &rank);
   if (rank != 0)
     return;
-  auto tmp = _dir / (name + ".tmp");
-  {
-    std::ofstream f(tmp);
-    f << text;
-    if (!f.good())
-      throw std::runtime_error("cannot write " + tmp.string());
-  }
-  std::filesystem::rename(tmp, _dir / name);
+  write_atomic(_dir / name, text);
 }
 
 void RunFolder::log(const std::string& line)

@@ -14,6 +14,10 @@
 namespace nct::io
 {
 
+/// Write `text` to `file` whole or not at all: a temporary file renamed
+/// into place.
+void write_atomic(const std::filesystem::path& file, const std::string& text);
+
 /// A run folder on disk. Text files are written whole or not at all
 /// (a temporary file renamed into place); only rank 0 writes them.
 class RunFolder

@@ -1,0 +1,903 @@
+#include "study/study.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstring>
+#include <fcntl.h>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <regex>
+#include <set>
+#include <spawn.h>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+#include <toml++/toml.h>
+
+#include "io/format.h"
+#include "io/output.h"
+#include "scene/scene.h"
+#include "study/analysis.h"
+
+extern char** environ;
+
+namespace nct::study
+{
+using io::format;
+using scene::Error;
+namespace fs = std::filesystem;
+
+const std::vector<std::pair<std::string, std::string>>& known_responses()
+{
+  static const std::vector<std::pair<std::string, std::string>> list = {
+      {"deflection_amplitude_mm", "mm"},  {"deformation_amplitude_mm", "mm"},
+      {"whole_eye_motion_hc_mm", "mm"},   {"peak_distance_mm", "mm"},
+      {"hc_time_ms", "ms"},               {"a1_time_ms", "ms"},
+      {"a1_length_mm", "mm"},             {"a1_velocity_m_s", "m/s"},
+      {"a2_time_ms", "ms"},               {"a2_length_mm", "mm"},
+      {"a2_velocity_m_s", "m/s"},         {"apex_pressure_hc_mmHg", "mmHg"},
+      {"apex_pressure_max_mmHg", "mmHg"}, {"iop_max_mmHg", "mmHg"},
+      {"iop_hc_mmHg", "mmHg"},            {"newton_iterations", ""},
+      {"step_cuts", ""},                  {"wall_s", "s"}};
+  return list;
+}
+
+namespace
+{
+
+// ---------------------------------------------------------------------------
+// The study file
+// ---------------------------------------------------------------------------
+
+/// "file: key 'name': what"
+Error key_error(const fs::path& file, const std::string& key, const std::string& what)
+{
+  return Error(file.string() + ": key '" + key + "': " + what);
+}
+
+/// The TOML literal of a value node (what --set takes).
+std::string literal(const toml::node& v)
+{
+  if (auto x = v.value_exact<double>()) // shortest round trip: 0.05, not 0.050000000000000003
+  {
+    char text[64];
+    std::string out(text, std::to_chars(text, text + sizeof text, *x).ptr);
+    if (std::isfinite(*x) && out.find_first_of(".e") == std::string::npos)
+      out += ".0";
+    return out;
+  }
+  std::ostringstream out;
+  v.visit([&](auto&& x) { out << x; });
+  return out.str();
+}
+
+/// An array of strings, or one string taken as an array of one.
+std::vector<std::string> string_list(const toml::node& v, const fs::path& file,
+                                     const std::string& key, bool one_allowed)
+{
+  std::vector<std::string> out;
+  if (one_allowed && v.is_string())
+    return {*v.value<std::string>()};
+  const auto* a = v.as_array();
+  if (!a)
+    throw key_error(file, key, one_allowed ? "expected a string or an array of strings"
+                                           : "expected an array of strings");
+  for (auto&& e : *a)
+  {
+    if (!e.is_string())
+      throw key_error(file, key, "expected strings, got " + literal(e));
+    out.push_back(*e.value<std::string>());
+  }
+  return out;
+}
+
+/// Refuse keys of `t` not in `known`.
+void only(const toml::table& t, const std::set<std::string>& known, const fs::path& file,
+          const std::string& where)
+{
+  for (auto&& [k, v] : t)
+    if (!known.count(std::string(k.str())))
+    {
+      std::string list;
+      for (auto& n : known)
+        list += (list.empty() ? "" : ", ") + n;
+      const std::string table = where.empty()        ? "a study file"
+                                : where == "study." ? "[study]"
+                                                    : "[[factor]]";
+      throw key_error(file, where + std::string(k.str()), "unknown key; " + table + " takes "
+                                                              + list);
+    }
+}
+
+std::string case_name(std::size_t i, std::size_t n)
+{
+  const int width = std::max<int>(3, std::to_string(n).size());
+  return format("case-%0*zu", width, i + 1);
+}
+
+/// "C10=0.25, k1=0.005" for messages.
+std::string describe_case(const Study& s, const Case& c)
+{
+  std::string out;
+  for (std::size_t i = 0; i < s.factors.size(); ++i)
+    out += (i ? ", " : "") + s.factors[i].label + "="
+           + (c.levels[i] < 0 ? "base" : s.factors[i].levels[c.levels[i]]);
+  return out;
+}
+
+} // namespace
+
+Study Study::load(const fs::path& file)
+{
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec))
+    throw Error(file.string() + ": study file not found");
+  toml::table t;
+  try
+  {
+    t = toml::parse_file(file.string());
+  }
+  catch (const toml::parse_error& e)
+  {
+    throw Error(file.string() + format(":%u:%u: not valid TOML: ", e.source().begin.line,
+                                       e.source().begin.column)
+                + std::string(e.description()));
+  }
+  only(t, {"study", "factor"}, file, "");
+  const toml::table* st = t["study"].as_table();
+  if (!st)
+    throw key_error(file, "study", "missing: a [study] table names the scene, design and responses");
+  only(*st, {"scene", "design", "responses", "set", "ranks", "jobs", "mpiexec"}, file, "study.");
+
+  Study s;
+  s.file = file;
+  auto scene = (*st)["scene"].value<std::string>();
+  if (!scene)
+    throw key_error(file, "study.scene", "missing or not a string: the base scene file");
+  s.scene = fs::path(*scene).is_absolute() ? fs::path(*scene) : file.parent_path() / *scene;
+  if (!fs::is_regular_file(s.scene, ec))
+    throw key_error(file, "study.scene", "scene file " + s.scene.string() + " not found");
+
+  s.design = (*st)["design"].value_or<std::string>("factorial");
+  if (s.design != "factorial" && s.design != "ofat")
+    throw key_error(file, "study.design", "\"factorial\" (2^k full) or \"ofat\" (one factor "
+                                          "at a time), got \"" + s.design + "\"");
+
+  if (!(*st)["responses"])
+    throw key_error(file, "study.responses", "missing: the summary.json keys to analyse");
+  s.responses = string_list(*(*st)["responses"].node(), file, "study.responses", false);
+  if (s.responses.empty())
+    throw key_error(file, "study.responses", "name at least one response");
+  for (auto& r : s.responses)
+  {
+    auto& known = known_responses();
+    if (std::none_of(known.begin(), known.end(), [&](auto& k) { return k.first == r; }))
+    {
+      std::string list;
+      for (auto& k : known)
+        list += (list.empty() ? "" : ", ") + k.first;
+      throw key_error(file, "study.responses", "unknown response '" + r + "'; one of " + list);
+    }
+    if (std::count(s.responses.begin(), s.responses.end(), r) > 1)
+      throw key_error(file, "study.responses", "'" + r + "' is listed twice");
+  }
+
+  if (auto* set = (*st)["set"].node())
+    s.sets = string_list(*set, file, "study.set", false);
+
+  auto integer = [&](const char* key, long def, long lo, long hi)
+  {
+    const toml::node* n = (*st)[key].node();
+    if (!n)
+      return int(def);
+    auto v = n->value_exact<int64_t>();
+    if (!v || *v < lo || *v > hi)
+      throw key_error(file, std::string("study.") + key,
+                      format("an integer in [%ld, %ld], got ", lo, hi) + literal(*n));
+    return int(*v);
+  };
+  s.ranks = integer("ranks", 1, 1, 4096);
+  const long cores = std::max(1u, std::thread::hardware_concurrency());
+  s.jobs = integer("jobs", std::max(1L, cores / s.ranks), 1, 4096);
+  s.mpiexec = (*st)["mpiexec"].value_or<std::string>("mpiexec --bind-to none");
+  if (s.mpiexec.find_first_not_of(" \t") == std::string::npos)
+    throw key_error(file, "study.mpiexec", "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
+
+  // Factors
+  const toml::array* fs_ = t["factor"].as_array();
+  if (!fs_ || fs_->empty() || !fs_->is_array_of_tables())
+    throw key_error(file, "factor", "missing: one [[factor]] table per factor (key, levels)");
+  const std::regex label_ok("[A-Za-z0-9_.+-]+");
+  for (std::size_t i = 0; i < fs_->size(); ++i)
+  {
+    const toml::table& ft = *fs_->get(i)->as_table();
+    const std::string where = "factor[" + std::to_string(i + 1) + "].";
+    only(ft, {"key", "levels", "label"}, file, where);
+    Factor f;
+    if (!ft["key"])
+      throw key_error(file, where + "key", "missing: the scene key (or keys) the factor sets");
+    f.keys = string_list(*ft["key"].node(), file, where + "key", true);
+    if (f.keys.empty())
+      throw key_error(file, where + "key", "name at least one scene key");
+    f.label = ft["label"].value_or(std::string(f.keys[0]));
+    if (!std::regex_match(f.label, label_ok))
+      throw key_error(file, where + "label", "'" + f.label + "': letters, digits and _.+- only "
+                                              "(it names a CSV column)");
+    for (auto& g : s.factors)
+      if (g.label == f.label)
+        throw key_error(file, where + "label", "'" + f.label + "' names two factors");
+    const toml::array* levels = ft["levels"].as_array();
+    if (!levels)
+      throw key_error(file, where + "levels", "missing or not an array: the factor's levels");
+    const bool factorial = s.design == "factorial";
+    if (factorial && levels->size() != 2)
+      throw key_error(file, where + "levels", format("a two-level factorial takes 2 levels, got %zu",
+                                                     levels->size()));
+    if (!factorial && levels->size() < 1)
+      throw key_error(file, where + "levels", "give at least one level");
+    for (std::size_t j = 0; j < levels->size(); ++j)
+    {
+      const toml::node& v = *levels->get(j);
+      if (!(v.is_number() || v.is_boolean() || v.is_string()))
+        throw key_error(file, where + "levels", "a level is a number, a boolean or a string, got "
+                                                    + literal(v));
+      if (!factorial && !v.is_number())
+        throw key_error(file, where + "levels", "one-factor-at-a-time levels are numbers, got "
+                                                    + literal(v));
+      f.levels.push_back(literal(v));
+      f.values.push_back(v.is_number()    ? *v.value<double>()
+                         : v.is_boolean() ? double(*v.value<bool>())
+                                          : double(j));
+      if (std::count(f.levels.begin(), f.levels.end(), f.levels.back()) > 1)
+        throw key_error(file, where + "levels", "level " + f.levels.back() + " is given twice");
+    }
+    s.factors.push_back(std::move(f));
+  }
+  const std::size_t k = s.factors.size();
+  if (s.design == "factorial" && k > 12)
+    throw key_error(file, "factor", format("%zu factors make 2^%zu cases; at most 12 factors", k, k));
+
+  // Cases
+  auto sets_of = [&](const std::vector<int>& levels)
+  {
+    Case c{levels, s.sets};
+    for (std::size_t i = 0; i < k; ++i)
+      if (levels[i] >= 0)
+        for (auto& key : s.factors[i].keys)
+          c.sets.push_back(key + "=" + s.factors[i].levels[levels[i]]);
+    return c;
+  };
+  if (s.design == "factorial")
+    for (std::size_t c = 0; c < (std::size_t(1) << k); ++c)
+    {
+      std::vector<int> levels(k);
+      for (std::size_t i = 0; i < k; ++i)
+        levels[i] = (c >> i) & 1;
+      s.cases.push_back(sets_of(levels));
+    }
+  else
+  {
+    // The base scene's value of each factor (its first key).
+    toml::table base;
+    try
+    {
+      base = toml::parse(scene::Scene::load(s.scene, s.sets).to_toml());
+    }
+    catch (const Error& e)
+    {
+      throw Error(file.string() + ": the base scene: " + e.what());
+    }
+    s.cases.push_back(sets_of(std::vector<int>(k, -1)));
+    for (std::size_t i = 0; i < k; ++i)
+    {
+      const toml::node* v = base.at_path(s.factors[i].keys[0]).node();
+      if (!v || !v->is_number())
+        throw key_error(file, "factor[" + std::to_string(i + 1) + "].key",
+                        s.factors[i].keys[0] + " is not a number in the base scene: a "
+                        "one-factor-at-a-time factor is numeric");
+      s.base_values.push_back(*v->value<double>());
+      for (std::size_t j = 0; j < s.factors[i].levels.size(); ++j)
+        if (s.factors[i].values[j] != s.base_values[i])
+        {
+          std::vector<int> levels(k, -1);
+          levels[i] = int(j);
+          s.cases.push_back(sets_of(levels));
+        }
+    }
+  }
+
+  // Every case's scene must load: unknown keys, types and ranges are
+  // caught here, before anything runs.
+  for (std::size_t c = 0; c < s.cases.size(); ++c)
+    try
+    {
+      scene::Scene::load(s.scene, s.cases[c].sets);
+    }
+    catch (const Error& e)
+    {
+      throw Error(file.string() + ": " + case_name(c, s.cases.size()) + " ("
+                  + describe_case(s, s.cases[c]) + "): " + e.what());
+    }
+  return s;
+}
+
+namespace
+{
+
+// ---------------------------------------------------------------------------
+// Running the cases: child processes of the nct executable
+// ---------------------------------------------------------------------------
+
+volatile std::sig_atomic_t interrupted = 0;
+void on_signal(int) { interrupted = 1; }
+
+/// The environment without an enclosing MPI job's variables, so that each
+/// case starts an MPI job of its own.
+std::vector<std::string> clean_environment()
+{
+  std::vector<std::string> env;
+  for (char** e = environ; *e; ++e)
+  {
+    std::string v = *e;
+    if (v.rfind("OMPI_COMM_WORLD", 0) == 0 || v.rfind("OMPI_MCA_orte_", 0) == 0
+        || v.rfind("OMPI_MCA_ess", 0) == 0 || v.rfind("OMPI_MCA_pmix", 0) == 0
+        || v.rfind("PMIX_", 0) == 0 || v.rfind("PMI_", 0) == 0)
+      continue;
+    env.push_back(v);
+  }
+  return env;
+}
+
+/// Start `argv` with stdout and stderr into `log`; returns its pid.
+pid_t spawn(const std::vector<std::string>& argv, const fs::path& log)
+{
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  std::vector<char*> args;
+  for (auto& a : argv)
+    args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  static const std::vector<std::string> env_strings = clean_environment();
+  std::vector<char*> env;
+  for (auto& e : env_strings)
+    env.push_back(const_cast<char*>(e.c_str()));
+  env.push_back(nullptr);
+  pid_t pid = 0;
+  int err = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), env.data());
+  posix_spawn_file_actions_destroy(&actions);
+  if (err != 0)
+    throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(err));
+  return pid;
+}
+
+std::string read_text(const fs::path& file)
+{
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// The last `n` lines of a text, for messages.
+std::string tail(const std::string& text, std::size_t n)
+{
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    lines.push_back(line);
+  std::string out;
+  for (std::size_t i = lines.size() > n ? lines.size() - n : 0; i < lines.size(); ++i)
+    out += lines[i] + "\n";
+  return out;
+}
+
+struct Job
+{
+  std::vector<std::string> argv;
+  fs::path log;
+};
+
+/// Run jobs `jobs` at a time; `done(i, exit code)` after each. Returns
+/// false when interrupted: the running jobs are stopped, and `done` is
+/// called for them too (one may have finished just before the signal).
+bool run_jobs(const std::vector<Job>& jobs, int at_once,
+              const std::function<void(std::size_t, int)>& done)
+{
+  std::map<pid_t, std::size_t> running;
+  std::size_t next = 0;
+  while (next < jobs.size() || !running.empty())
+  {
+    while (!interrupted && next < jobs.size() && int(running.size()) < at_once)
+    {
+      running[spawn(jobs[next].argv, jobs[next].log)] = next;
+      ++next;
+    }
+    if (interrupted)
+    {
+      for (auto& [pid, i] : running)
+        kill(pid, SIGTERM);
+      // A job may have finished just before the signal: keep it.
+      for (auto& [pid, i] : running)
+      {
+        int status = 0;
+        waitpid(pid, &status, 0);
+        done(i, WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status));
+      }
+      return false;
+    }
+    int status = 0;
+    pid_t pid = waitpid(-1, &status, 0);
+    if (pid < 0)
+    {
+      if (errno == EINTR)
+        continue;
+      throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
+    }
+    auto it = running.find(pid);
+    if (it == running.end())
+      continue;
+    const std::size_t i = it->second;
+    running.erase(it);
+    done(i, WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status));
+  }
+  return true;
+}
+
+std::vector<std::string> split_words(const std::string& text)
+{
+  std::istringstream in(text);
+  std::vector<std::string> out;
+  std::string w;
+  while (in >> w)
+    out.push_back(w);
+  return out;
+}
+
+/// The command of one case: nct <verb> scene --set ... [--out dir].
+std::vector<std::string> command(const Study& s, const Options& o, const Case& c,
+                                 const std::string& verb, const fs::path& out)
+{
+  std::vector<std::string> argv;
+  if (s.ranks > 1 && verb == "run")
+  {
+    argv = split_words(s.mpiexec);
+    argv.push_back("-n");
+    argv.push_back(std::to_string(s.ranks));
+  }
+  argv.push_back(o.program.string());
+  argv.push_back(verb);
+  argv.push_back(fs::absolute(s.scene).string());
+  for (auto& set : c.sets)
+  {
+    argv.push_back("--set");
+    argv.push_back(set);
+  }
+  if (verb == "run")
+  {
+    argv.push_back("--out");
+    argv.push_back(out.string());
+  }
+  return argv;
+}
+
+// ---------------------------------------------------------------------------
+// The results table and its analysis
+// ---------------------------------------------------------------------------
+
+const double nan = std::numeric_limits<double>::quiet_NaN();
+
+/// What one case gave.
+struct Result
+{
+  std::string status = "pending"; ///< pending, converged, failed, error
+  std::vector<double> responses;  ///< NaN where the case gave none
+  double wall_s = nan;
+};
+
+std::string number(double v)
+{
+  if (std::isnan(v))
+    return "nan";
+  if (std::isinf(v))
+    return v > 0 ? "inf" : "-inf";
+  return format("%.10g", v);
+}
+
+/// A JSON number, or null for NaN and infinities (JSON has neither).
+nlohmann::json json_number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+/// The one-factor-at-a-time design's base case: every factor at the
+/// scene's value.
+bool is_base(const Case& c)
+{
+  return std::all_of(c.levels.begin(), c.levels.end(), [](int l) { return l < 0; });
+}
+
+/// The factor's value in a case (the base scene's for -1).
+double value(const Study& s, const Case& c, std::size_t i)
+{
+  return c.levels[i] < 0 ? s.base_values[i] : s.factors[i].values[c.levels[i]];
+}
+
+Result read_result(const Study& s, const fs::path& dir)
+{
+  Result r;
+  r.responses.assign(s.responses.size(), nan);
+  auto summary = nlohmann::json::parse(read_text(dir / "summary.json"));
+  r.status = summary.value("status", "failed");
+  r.wall_s = summary.value("wall_s", nan);
+  for (std::size_t j = 0; j < s.responses.size(); ++j)
+    if (summary.contains(s.responses[j]) && summary[s.responses[j]].is_number())
+      r.responses[j] = summary[s.responses[j]].get<double>();
+  return r;
+}
+
+std::string cases_csv(const Study& s, const std::vector<Result>& results)
+{
+  std::ostringstream out;
+  out << "case,status";
+  for (auto& f : s.factors)
+    out << "," << f.label;
+  for (auto& r : s.responses)
+    out << "," << r;
+  out << ",wall_s\n";
+  for (std::size_t c = 0; c < s.cases.size(); ++c)
+  {
+    out << case_name(c, s.cases.size()) << "," << results[c].status;
+    for (std::size_t i = 0; i < s.factors.size(); ++i)
+      out << "," << number(value(s, s.cases[c], i));
+    for (double v : results[c].responses)
+      out << "," << number(v);
+    out << "," << number(results[c].wall_s) << "\n";
+  }
+  return out.str();
+}
+
+/// The effects, ANOVA, main effects and correlations of the finished
+/// cases into the study folder; the rankings on stdout.
+void analyse(const Study& s, const std::vector<Result>& results, const fs::path& out)
+{
+  const std::size_t k = s.factors.size(), n = s.cases.size();
+  nlohmann::json json;
+  json["design"] = s.design;
+  json["cases"] = n;
+  std::ostringstream effects, anova, mains;
+  effects << "response,term,effect,rank\n";
+  anova << "response,source,df,sum_sq,mean_sq,F,p,percent\n";
+  mains << "response,factor,level,value,mean\n";
+  std::cout << "\n";
+
+  for (std::size_t j = 0; j < s.responses.size(); ++j)
+  {
+    const std::string& name = s.responses[j];
+    std::vector<double> y(n);
+    std::vector<std::string> missing;
+    for (std::size_t c = 0; c < n; ++c)
+    {
+      y[c] = results[c].responses[j];
+      if (!std::isfinite(y[c]))
+        missing.push_back(case_name(c, n));
+    }
+    auto& rj = json["responses"][name];
+    if (!missing.empty())
+    {
+      std::string list;
+      for (auto& m : missing)
+        list += (list.empty() ? "" : ", ") + m;
+      rj["skipped"] = "no value from " + list;
+      std::cout << name << ": not analysed, no value from " << list << "\n";
+      continue;
+    }
+
+    // (term, effect) of this response, ranked by size.
+    std::vector<std::pair<std::string, double>> ranked;
+    if (s.design == "factorial")
+    {
+      std::vector<std::vector<int>> coded(n, std::vector<int>(k));
+      std::vector<std::string> labels;
+      for (auto& f : s.factors)
+        labels.push_back(f.label);
+      for (std::size_t c = 0; c < n; ++c)
+        for (std::size_t i = 0; i < k; ++i)
+          coded[c][i] = 2 * s.cases[c].levels[i] - 1;
+      const Anova a = factorial_anova(coded, y, labels);
+      for (auto& t : a.terms)
+      {
+        ranked.emplace_back(t.name, t.effect);
+        anova << name << "," << t.name << ",1," << number(t.sum_sq) << "," << number(t.sum_sq)
+              << "," << number(t.f) << "," << number(t.p) << "," << number(t.percent) << "\n";
+        rj["terms"][t.name] = {{"effect", t.effect}, {"sum_sq", t.sum_sq},
+                               {"percent", t.percent}, {"F", json_number(t.f)},
+                               {"p", json_number(t.p)}};
+      }
+      const double ms_error = a.error_df > 0 ? a.error_sum_sq / a.error_df : nan;
+      anova << name << ",error," << a.error_df << "," << number(a.error_sum_sq) << ","
+            << number(ms_error) << ",,," << number(a.total_sum_sq > 0 ? 100 * a.error_sum_sq
+                                                                            / a.total_sum_sq
+                                                                      : 0)
+            << "\n"
+            << name << ",total," << a.total_df << "," << number(a.total_sum_sq) << ",,,,100\n";
+      rj["error"] = {{"df", a.error_df}, {"sum_sq", a.error_sum_sq}};
+      rj["total"] = {{"df", a.total_df}, {"sum_sq", a.total_sum_sq}};
+      json["error_term"]
+          = a.error_df > 0
+                ? format("the interactions of three and more factors, pooled (%d dof): F and p "
+                         "test each term against them",
+                         a.error_df)
+                : std::string("none: a 2^k design with k <= 2 and no replication leaves no "
+                              "degrees of freedom once the main factors and two-way "
+                              "interactions are fitted, so there is no F or p");
+    }
+    else
+    {
+      // One factor at a time: each factor's effect is the response at
+      // its highest value minus at its lowest (the base included).
+      for (std::size_t i = 0; i < k; ++i)
+      {
+        double lo = INFINITY, hi = -INFINITY, y_lo = nan, y_hi = nan;
+        for (std::size_t c = 0; c < n; ++c)
+        {
+          if (s.cases[c].levels[i] < 0 && !is_base(s.cases[c]))
+            continue;
+          const double x = value(s, s.cases[c], i);
+          if (x < lo)
+            lo = x, y_lo = y[c];
+          if (x > hi)
+            hi = x, y_hi = y[c];
+        }
+        ranked.emplace_back(s.factors[i].label, y_hi - y_lo);
+        rj["terms"][s.factors[i].label] = {{"effect", y_hi - y_lo}, {"low", lo}, {"high", hi}};
+      }
+      json["error_term"] = "none: one factor at a time has no ANOVA; the effects are "
+                           "differences between single runs and interactions are not seen";
+    }
+    std::stable_sort(ranked.begin(), ranked.end(),
+                     [](auto& a, auto& b) { return std::abs(a.second) > std::abs(b.second); });
+    std::cout << name << ": effects, largest first\n";
+    for (std::size_t r = 0; r < ranked.size(); ++r)
+    {
+      effects << name << "," << ranked[r].first << "," << number(ranked[r].second) << "," << r + 1
+              << "\n";
+      rj["ranking"].push_back(ranked[r].first);
+      if (r < 8)
+        std::cout << format("  %2zu  %-28s %+.4g\n", r + 1, ranked[r].first.c_str(),
+                            ranked[r].second);
+    }
+
+    // Main effects: the mean response at each level of each factor (one
+    // factor at a time: over the cases that vary it, and the base).
+    for (std::size_t i = 0; i < k; ++i)
+    {
+      std::vector<double> x, ys;
+      for (std::size_t c = 0; c < n; ++c)
+        if (s.design == "factorial" || s.cases[c].levels[i] >= 0 || is_base(s.cases[c]))
+        {
+          x.push_back(value(s, s.cases[c], i));
+          ys.push_back(y[c]);
+        }
+      std::vector<double> values = x;
+      std::sort(values.begin(), values.end());
+      values.erase(std::unique(values.begin(), values.end()), values.end());
+      const auto means = level_means(x, values, ys);
+      const Factor& f = s.factors[i];
+      for (std::size_t l = 0; l < values.size(); ++l)
+      {
+        auto at = std::find(f.values.begin(), f.values.end(), values[l]);
+        std::string level = at == f.values.end() ? number(values[l]) : f.levels[at - f.values.begin()];
+        std::replace(level.begin(), level.end(), ',', ';');
+        mains << name << "," << f.label << "," << level << "," << number(values[l]) << ","
+              << number(means[l]) << "\n";
+      }
+    }
+  }
+
+  // Pearson correlations of factors and responses over the cases that
+  // gave every response.
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> columns(k + s.responses.size());
+  for (auto& f : s.factors)
+    names.push_back(f.label);
+  for (auto& r : s.responses)
+    names.push_back(r);
+  std::size_t used = 0;
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    const auto& r = results[c].responses;
+    if (!std::all_of(r.begin(), r.end(), [](double v) { return std::isfinite(v); }))
+      continue;
+    ++used;
+    for (std::size_t i = 0; i < k; ++i)
+      columns[i].push_back(value(s, s.cases[c], i));
+    for (std::size_t j = 0; j < r.size(); ++j)
+      columns[k + j].push_back(r[j]);
+  }
+  std::ostringstream corr;
+  json["correlation_cases"] = used;
+  if (used >= 3)
+  {
+    const auto r = pearson(columns);
+    for (auto& name : names)
+      corr << "," << name;
+    corr << "\n";
+    for (std::size_t a = 0; a < names.size(); ++a)
+    {
+      corr << names[a];
+      for (std::size_t b = 0; b < names.size(); ++b)
+        corr << "," << number(r[a][b]);
+      corr << "\n";
+    }
+  }
+  io::write_atomic(out / "effects.csv", effects.str());
+  if (s.design == "factorial")
+    io::write_atomic(out / "anova.csv", anova.str());
+  io::write_atomic(out / "main_effects.csv", mains.str());
+  if (used >= 3)
+    io::write_atomic(out / "correlation.csv", corr.str());
+  else
+    fs::remove(out / "correlation.csv"); // a stale one from an earlier analysis
+  io::write_atomic(out / "analysis.json", json.dump(2) + "\n");
+}
+
+} // namespace
+
+int run(const Study& s, const Options& o)
+{
+  const std::size_t n = s.cases.size();
+  const int jobs = o.jobs > 0 ? o.jobs : s.jobs;
+  std::error_code ec;
+  fs::create_directories(o.out / "cases", ec);
+  if (ec)
+    throw std::runtime_error("cannot create the study folder " + o.out.string() + ": "
+                             + ec.message());
+
+  // Finished cases (a summary.json from the same overrides) are kept; a
+  // folder from other overrides means another study: refuse to mix.
+  std::vector<Result> results(n);
+  std::vector<std::size_t> todo;
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    const fs::path dir = o.out / "cases" / case_name(c, n);
+    results[c].responses.assign(s.responses.size(), nan);
+    if (fs::exists(dir / "case.json"))
+    {
+      auto recorded = nlohmann::json::parse(read_text(dir / "case.json"));
+      if (recorded.value("sets", std::vector<std::string>{}) != s.cases[c].sets)
+        throw Error(s.file.string() + ": " + o.out.string() + " holds another study ("
+                    + case_name(c, n) + " was run with other keys); give a new --out or "
+                    "remove it");
+      if (fs::exists(dir / "summary.json"))
+      {
+        results[c] = read_result(s, dir);
+        continue;
+      }
+    }
+    todo.push_back(c);
+  }
+  std::cout << "study " << s.file.string() << ": " << s.design << ", " << s.factors.size()
+            << " factor(s), " << n << " cases (" << n - todo.size() << " already done), "
+            << jobs << " at once on " << s.ranks << " rank(s) each -> " << o.out.string()
+            << std::endl;
+
+  struct sigaction action = {};
+  action.sa_handler = on_signal;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+
+  // Check every case to run (nct check: the eye geometry, the puff...)
+  // before running any.
+  std::vector<Job> checks;
+  for (std::size_t c : todo)
+    checks.push_back({command(s, o, s.cases[c], "check", {}),
+                      o.out / "cases" / (case_name(c, n) + ".check.log")});
+  std::string bad;
+  const bool checked = run_jobs(checks, std::max(jobs * s.ranks, 1),
+                                [&](std::size_t i, int code)
+                                {
+                                  if (code != 0 && bad.empty())
+                                  {
+                                    std::string why = tail(read_text(checks[i].log), 3);
+                                    if (why.rfind("error: ", 0) == 0)
+                                      why.erase(0, 7);
+                                    bad = case_name(todo[i], n) + " ("
+                                          + describe_case(s, s.cases[todo[i]]) + "): " + why;
+                                  }
+                                  fs::remove(checks[i].log);
+                                });
+  if (!checked)
+  {
+    std::cerr << "study: interrupted while checking the cases" << std::endl;
+    return 130;
+  }
+  if (!bad.empty())
+  {
+    while (!bad.empty() && bad.back() == '\n')
+      bad.pop_back();
+    throw Error(s.file.string() + ": " + bad);
+  }
+  if (o.dry_run)
+  {
+    for (std::size_t c = 0; c < n; ++c)
+      std::cout << "  " << case_name(c, n) << ": " << describe_case(s, s.cases[c])
+                << (std::find(todo.begin(), todo.end(), c) == todo.end() ? "  (done)" : "")
+                << "\n";
+    std::cout << "study: every case checks out; nothing run (--dry-run)" << std::endl;
+    return 0;
+  }
+
+  io::write_atomic(o.out / "study.toml", read_text(s.file));
+  std::vector<Job> runs;
+  for (std::size_t c : todo)
+  {
+    const fs::path dir = o.out / "cases" / case_name(c, n);
+    fs::remove_all(dir); // an interrupted case starts afresh
+    fs::create_directories(dir);
+    io::write_atomic(dir / "case.json",
+                     nlohmann::json{{"case", case_name(c, n)}, {"sets", s.cases[c].sets}}.dump(2)
+                         + "\n");
+    runs.push_back({command(s, o, s.cases[c], "run", dir), dir / "console.log"});
+  }
+  const auto start = std::chrono::steady_clock::now();
+  std::size_t finished = n - todo.size();
+  io::write_atomic(o.out / "cases.csv", cases_csv(s, results));
+  const bool complete = run_jobs(
+      runs, jobs,
+      [&](std::size_t i, int code)
+      {
+        const std::size_t c = todo[i];
+        const fs::path dir = o.out / "cases" / case_name(c, n);
+        if (fs::exists(dir / "summary.json"))
+          results[c] = read_result(s, dir);
+        else if (interrupted)
+          return; // stopped: it stays pending
+        else
+        {
+          results[c].status = "error";
+          std::cerr << case_name(c, n) << ": nct run exited with " << code << " and no summary; "
+                    << (dir / "console.log").string() << " ends:\n"
+                    << tail(read_text(dir / "console.log"), 5);
+        }
+        ++finished;
+        const double elapsed
+            = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::string line = format("[%zu/%zu] %s %s (%s)", finished, n, case_name(c, n).c_str(),
+                                  results[c].status.c_str(),
+                                  describe_case(s, s.cases[c]).c_str());
+        for (std::size_t j = 0; j < std::min<std::size_t>(s.responses.size(), 4); ++j)
+          line += " " + s.responses[j] + "=" + format("%.4g", results[c].responses[j]);
+        const std::size_t done_now = finished - (n - todo.size());
+        line += format("  %.0f s elapsed, about %.0f s to go", elapsed,
+                       elapsed / done_now * (n - finished));
+        std::cout << line << std::endl;
+        io::write_atomic(o.out / "cases.csv", cases_csv(s, results));
+      });
+  if (!complete)
+  {
+    std::cerr << "study: interrupted with " << finished << " of " << n
+              << " cases done; the same command resumes it" << std::endl;
+    return 130;
+  }
+
+  io::write_atomic(o.out / "cases.csv", cases_csv(s, results));
+  analyse(s, results, o.out);
+  std::size_t converged = 0;
+  for (auto& r : results)
+    converged += r.status == "converged";
+  std::cout << "\nstudy: " << converged << " of " << n << " cases converged; tables in "
+            << o.out.string() << " (cases.csv, effects.csv, "
+            << (s.design == "factorial" ? "anova.csv, " : "")
+            << "main_effects.csv, correlation.csv, analysis.json)" << std::endl;
+  return converged == n ? 0 : 3;
+}
+
+} // namespace nct::study

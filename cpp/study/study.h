@@ -1,0 +1,71 @@
+// Studies: a base scene run over a design of factor levels, every case in
+// its own run folder, then one table and its statistics.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace nct::study
+{
+
+/// A factor: one or more scene keys set together to each of its levels.
+struct Factor
+{
+  std::string label;              ///< column name (default: the first key)
+  std::vector<std::string> keys;  ///< scene keys, e.g. material.cornea.k1
+  std::vector<std::string> levels; ///< TOML literal of each level, as --set takes it
+  std::vector<double> values;     ///< each level's number (a string level: its index)
+};
+
+/// One case: the overrides it adds to the base scene.
+struct Case
+{
+  std::vector<int> levels;       ///< per factor, the level's index; -1: the scene's value
+  std::vector<std::string> sets; ///< section.key=value, the study's own first
+};
+
+/// A validated study file (README "Studies").
+struct Study
+{
+  std::filesystem::path file;  ///< the study file
+  std::filesystem::path scene; ///< the base scene (relative to the study file)
+  std::string design;          ///< "factorial" (2^k full) or "ofat"
+  std::vector<std::string> sets; ///< overrides of every case
+  std::vector<Factor> factors;
+  std::vector<std::string> responses; ///< summary.json keys
+  int ranks; ///< MPI ranks per case
+  int jobs;  ///< cases at once
+  std::string mpiexec; ///< launcher of cases with ranks > 1 ("-n ranks" is appended)
+  std::vector<Case> cases; ///< factorial: Yates order (the first factor changes fastest);
+                           ///< ofat: the base scene, then each factor's levels in turn
+  std::vector<double> base_values; ///< ofat: each factor's value in the base scene
+
+  /// Read and validate a study file (and every case's scene keys). Throws
+  /// scene::Error naming the file and the key before anything runs.
+  static Study load(const std::filesystem::path& file);
+};
+
+/// The responses a study may ask for: the numeric summary.json keys of a
+/// puff run (design.md section 10), with their units.
+const std::vector<std::pair<std::string, std::string>>& known_responses();
+
+/// Command-line settings of a study.
+struct Options
+{
+  std::filesystem::path out;     ///< study folder
+  std::filesystem::path program; ///< the nct executable that runs the cases
+  int jobs = 0;                  ///< overrides the study's when > 0
+  bool dry_run = false;          ///< check every case and list them, run none
+};
+
+/// Run (or resume) every case of a study in out/cases/case-NNN, then
+/// write out/cases.csv and the analysis (out/effects.csv, anova.csv,
+/// main_effects.csv, correlation.csv, analysis.json). Cases with a
+/// summary.json from the same overrides are kept. Returns the exit code:
+/// 0 when every case converged, 3 when some failed (the analysis covers
+/// the responses every case gave), 130 when interrupted (run it again to
+/// resume).
+int run(const Study& study, const Options& options);
+
+} // namespace nct::study
