@@ -170,3 +170,33 @@ for r in responses:
 status = {row["case"]: row["status"] for row in rows("cases.csv")}
 assert status["case-007"] == "failed" and list(status.values()).count("converged") == 31
 print("study_check: a failed case is reported and its responses left unanalysed")
+
+# One factor at a time: the base scene (IOP 15 mmHg, k2 100), then each
+# level that differs from it. Each effect is y at the factor's highest
+# value minus y at its lowest; the main effects are the single runs.
+ofat_out = out + "_ofat"
+shutil.rmtree(ofat_out, ignore_errors=True)
+study = os.path.join(out, "ofat.toml.in")
+with open(study, "w") as f:
+    f.write(f'[study]\nscene = "{scene}"\ndesign = "ofat"\nresponses = ["hc_time_ms"]\n'
+            '[[factor]]\nlabel = "IOP"\nkey = "inflate.iop"\nlevels = [10.0, 15.0, 20.0]\n'
+            '[[factor]]\nlabel = "k2"\nkey = "material.cornea.k2"\nlevels = [50.0, 200.0]\n')
+cases = [([], 9.0), (["inflate.iop=10.0"], 9.5), (["inflate.iop=20.0"], 8.8),
+         (["material.cornea.k2=50.0"], 9.1), (["material.cornea.k2=200.0"], 8.7)]
+for c, (sets, hc) in enumerate(cases):
+    d = os.path.join(ofat_out, "cases", f"case-{c + 1:03d}")
+    os.makedirs(d)
+    json.dump({"case": f"case-{c + 1:03d}", "sets": sets}, open(os.path.join(d, "case.json"), "w"))
+    json.dump({"status": "converged", "hc_time_ms": hc}, open(os.path.join(d, "summary.json"), "w"))
+r = subprocess.run([nct, "study", study, "--out", ofat_out], capture_output=True, text=True)
+print(r.stdout, r.stderr)
+assert r.returncode == 0, f"ofat: nct study exited with {r.returncode}"
+out = ofat_out
+effects = {e["term"]: float(e["effect"]) for e in rows("effects.csv")}
+close(effects["IOP"], 8.8 - 9.5, "ofat IOP effect")
+close(effects["k2"], 8.7 - 9.1, "ofat k2 effect")
+mains = [(m["factor"], float(m["value"]), float(m["mean"])) for m in rows("main_effects.csv")]
+assert mains == [("IOP", 10, 9.5), ("IOP", 15, 9.0), ("IOP", 20, 8.8),
+                 ("k2", 50, 9.1), ("k2", 100, 9.0), ("k2", 200, 8.7)], mains
+assert not os.path.exists(os.path.join(out, "anova.csv"))
+print("study_check: one factor at a time gives the single-run differences")

@@ -1,5 +1,6 @@
 // nct: the command-line front end (check, run, study, describe).
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 
@@ -85,6 +86,13 @@ int main(int argc, char* argv[])
   // process itself.
   if (study->parsed())
   {
+    if (const char* size = std::getenv("OMPI_COMM_WORLD_SIZE"); size && std::atoi(size) > 1)
+    {
+      std::cerr << "error: nct study starts an MPI job per case: run it without mpirun "
+                   "(study.ranks sets the ranks of each case)"
+                << std::endl;
+      return 2;
+    }
     try
     {
       auto s = nct::study::Study::load(study_file);

@@ -893,10 +893,13 @@ int run(const Study& s, const Options& o)
   std::size_t converged = 0;
   for (auto& r : results)
     converged += r.status == "converged";
+  std::string tables = "cases.csv, effects.csv, ";
+  tables += s.design == "factorial" ? "anova.csv, " : "";
+  tables += "main_effects.csv, ";
+  tables += fs::exists(o.out / "correlation.csv") ? "correlation.csv, " : "";
   std::cout << "\nstudy: " << converged << " of " << n << " cases converged; tables in "
-            << o.out.string() << " (cases.csv, effects.csv, "
-            << (s.design == "factorial" ? "anova.csv, " : "")
-            << "main_effects.csv, correlation.csv, analysis.json)" << std::endl;
+            << o.out.string() << " (" << tables << "analysis.json); plots: /usr/bin/python3 "
+            << "scripts/plot-study.py " << o.out.string() << std::endl;
   return converged == n ? 0 : 3;
 }
 
