@@ -54,6 +54,12 @@ TEST(Biomarkers, PeakDistance)
   const double distance = nct::biomarkers::peak_distance(p);
   std::printf("peak distance: %.5f mm (exact %.5f)\n", distance, 2 * d);
   EXPECT_NEAR(distance, 2 * d, 2e-3);
+  // A convex profile has one highest point, the apex: no distance, even
+  // with the even-odd ripple of quadratic elements' nodes on its flanks.
+  auto convex = sample(0.25, [](double x) { return -0.05 * x * x; }); // x = 0 is sample 24
+  for (std::size_t i = 1; i < convex.y.size(); i += 2)
+    convex.y[i] += 1e-3;
+  EXPECT_EQ(nct::biomarkers::peak_distance(convex), 0.0);
 }
 
 TEST(Biomarkers, ApexCurvatureAndCrossings)

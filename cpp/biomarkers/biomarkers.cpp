@@ -89,7 +89,12 @@ double flat_length(const Profile& p, double tolerance)
 
 double peak_distance(const Profile& p)
 {
-  return highest(p, [](double x) { return x > 0; }) - highest(p, [](double x) { return x < 0; });
+  const double right = highest(p, [](double x) { return x > 0; });
+  const double left = highest(p, [](double x) { return x < 0; });
+  // Not concave: the apex is the highest point, the two peaks are one.
+  if (height(p, 0.0) >= std::max(height(p, right), height(p, left)))
+    return 0.0;
+  return right - left;
 }
 
 double apex_curvature(const Profile& p, double half_width)

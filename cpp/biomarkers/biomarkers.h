@@ -25,7 +25,9 @@ double flat_length(const Profile& p, double tolerance);
 
 /// Distance [mm] between the highest points on either side of the axis
 /// (each refined by a parabola through the highest sample and its
-/// neighbours). Corvis' peak distance, taken at highest concavity.
+/// neighbours). Corvis' peak distance, taken at highest concavity; 0 when
+/// the profile is not concave there (the apex is its highest point: a
+/// stiff cornea that only flattens), the limit of two peaks merging.
 double peak_distance(const Profile& p);
 
 /// Curvature coefficient b of the least-squares fit y = a + b x^2 over
