@@ -32,8 +32,16 @@ def study_run(args=(), check=None):
 
 
 def left_behind():
-    ps = subprocess.run(["pgrep", "-f", "--", out], capture_output=True, text=True).stdout.split()
-    return [p for p in ps if int(p) != os.getpid()]
+    """Processes whose command line names the study folder (from /proc)."""
+    found = []
+    for pid in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            cmd = open(f"/proc/{pid}/cmdline", "rb").read().replace(b"\0", b" ").decode()
+        except OSError:
+            continue
+        if out in cmd and int(pid) != os.getpid():
+            found.append(f"{pid}: {cmd}")
+    return found
 
 
 # 1. Interrupt once a case has finished.
