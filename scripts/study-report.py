@@ -24,6 +24,9 @@ for name in [c for c in cases[0] if c in analysis["responses"]]:  # the study's 
     r = analysis["responses"][name]
     values = [float(c[name]) for c in cases if c[name] != "nan"]
     print(f"**{name}** (range {min(values):.4g} to {max(values):.4g})\n")
+    if "constant" in r:
+        print(f"{r['constant']} in every case: no effects\n")
+        continue
     if "skipped" in r:
         print(f"not analysed: {r['skipped']}\n")
         continue

@@ -600,6 +600,13 @@ void analyse(const Study& s, const std::vector<Result>& results, const fs::path&
       continue;
     }
 
+    if (std::all_of(y.begin(), y.end(), [&](double v) { return v == y[0]; }))
+    {
+      rj["constant"] = y[0];
+      std::cout << name << ": " << number(y[0]) << " in every case, no effects\n";
+      continue;
+    }
+
     // (term, effect) of this response, ranked by size.
     std::vector<std::pair<std::string, double>> ranked;
     if (s.design == "factorial")
