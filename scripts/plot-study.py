@@ -29,6 +29,12 @@ def rows(folder, name):
         return list(csv.DictReader(f))
 
 
+def save(fig, out):
+    fig.tight_layout()
+    fig.savefig(out, dpi=150)
+    plt.close(fig)
+
+
 def correlation(folder, out):
     path = os.path.join(folder, "correlation.csv")
     if not os.path.exists(path):
@@ -62,9 +68,7 @@ def correlation(folder, out):
     sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(-1, 1))
     fig.colorbar(sm, ax=ax, shrink=0.8, label="Pearson r")
     ax.set_title("Correlation of factors and responses")
-    fig.tight_layout()
-    fig.savefig(out, dpi=150)
-    plt.close(fig)
+    save(fig, out)
 
 
 def main_effects(folder, out):
@@ -88,9 +92,7 @@ def main_effects(folder, out):
             if b == 0:
                 ax.set_ylabel(resp, fontsize=8)
     fig.suptitle("Main effects: mean response at each level")
-    fig.tight_layout()
-    fig.savefig(out, dpi=150)
-    plt.close(fig)
+    save(fig, out)
 
 
 def pareto(folder, out):
@@ -118,9 +120,7 @@ def pareto(folder, out):
         twin.set_ylim(0, 105)
         twin.set_ylabel("cumulative %", fontsize=8)
     axes[0][0].set_title("Pareto of effects (blue: raises the response, red: lowers it)")
-    fig.tight_layout()
-    fig.savefig(out, dpi=150)
-    plt.close(fig)
+    save(fig, out)
 
 
 def main():

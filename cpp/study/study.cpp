@@ -517,11 +517,13 @@ std::string number(double v)
 /// A JSON number, or null for NaN and infinities (JSON has neither).
 nlohmann::json json_number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
-/// The one-factor-at-a-time design's base case: every factor at the
-/// scene's value.
-bool is_base(const Case& c)
+/// Does case c show factor i's effect? Every case of a factorial; one
+/// factor at a time, the cases that vary i and the base (every factor at
+/// the scene's value).
+bool shows(const Study& s, const Case& c, std::size_t i)
 {
-  return std::all_of(c.levels.begin(), c.levels.end(), [](int l) { return l < 0; });
+  return s.design == "factorial" || c.levels[i] >= 0
+         || std::all_of(c.levels.begin(), c.levels.end(), [](int l) { return l < 0; });
 }
 
 /// The factor's value in a case (the base scene's for -1).
@@ -655,7 +657,7 @@ void analyse(const Study& s, const std::vector<Result>& results, const fs::path&
         double lo = INFINITY, hi = -INFINITY, y_lo = nan, y_hi = nan;
         for (std::size_t c = 0; c < n; ++c)
         {
-          if (s.cases[c].levels[i] < 0 && !is_base(s.cases[c]))
+          if (!shows(s, s.cases[c], i))
             continue;
           const double x = value(s, s.cases[c], i);
           if (x < lo)
@@ -688,7 +690,7 @@ void analyse(const Study& s, const std::vector<Result>& results, const fs::path&
     {
       std::vector<double> x, ys;
       for (std::size_t c = 0; c < n; ++c)
-        if (s.design == "factorial" || s.cases[c].levels[i] >= 0 || is_base(s.cases[c]))
+        if (shows(s, s.cases[c], i))
         {
           x.push_back(value(s, s.cases[c], i));
           ys.push_back(y[c]);
