@@ -21,6 +21,15 @@ so the stabilisation scales with the cell's size and shape in every
 direction, vanishes for the exact solution (consistent) and holds on
 coarse meshes at high Reynolds number.
 
+The residual is written either on the current mesh (`cell_residual`: the
+mesh's own coordinates are the current ones, w a given field) or on a
+reference mesh that the current one is mapped from by the mesh
+displacement d (`cell_residual_ale`): x = X + d, F = I + Grad d,
+J = det F, so that grad_x f = Grad f F^-1 and dx = J dX. The second is
+what a monolithic fluid-structure Newton needs: the residual is a
+function of d, and its derivative with respect to d (the shape
+derivative) is exact.
+
 At an outlet (natural condition sigma n = 0) flow may enter: the backflow
 traction beta rho min(a . n, 0) u of Esmaily Moghadam et al. (2011) puts
 back the kinetic energy such inflow carries in (energy stable for beta >= 1/2).
@@ -29,11 +38,13 @@ References: T. E. Tezduyar, Int. J. Numer. Meth. Fluids 43 (2003) 555-575;
 Y. Bazilevs, V. M. Calo, J. A. Cottrell, T. J. R. Hughes, A. Reali,
 G. Scovazzi, Comput. Methods Appl. Mech. Engrg. 197 (2007) 173-201, eq.
 (63)-(65); M. Esmaily Moghadam, Y. Bazilevs, T.-Y. Hsia, I. E.
-Vignon-Clementel, A. L. Marsden, Comput. Mech. 48 (2011) 277-291; design.md
-section 8.
+Vignon-Clementel, A. L. Marsden, Comput. Mech. 48 (2011) 277-291; J. Donea,
+A. Huerta, J.-Ph. Ponthot, A. Rodriguez-Ferran, Arbitrary Lagrangian-Eulerian
+methods, Encyclopedia of Computational Mechanics, Wiley 2004, sec. 3
+(the ALE equations on the reference mesh); design.md section 8.
 """
-from ufl import (Identity, JacobianInverse, as_vector, div, dot, grad, inner, min_value,
-                 sqrt, sym)
+from ufl import (Identity, JacobianInverse, as_vector, det, dot, grad, inner, inv, min_value,
+                 sqrt, sym, tr)
 
 # Constants of the stabilisation parameter tau_M (Bazilevs et al. 2007):
 # C_t for the time step, C_I of the inverse estimate for linear tetrahedra.
@@ -41,23 +52,13 @@ C_t = 4.0
 C_I = 36.0
 
 
-def stress(u, p, mu):
-    """Cauchy stress sigma = -p I + 2 mu eps(u) [MPa]."""
-    return -p * Identity(3) + 2.0 * mu * sym(grad(u))
+def stress(grad_u, p, mu):
+    """Cauchy stress sigma = -p I + 2 mu eps(u) [MPa], from the velocity gradient."""
+    return -p * Identity(3) + 2.0 * mu * sym(grad_u)
 
 
-def momentum_residual(u, p, dudt, a, rho, mu):
-    """Strong momentum residual r_M = rho (du/dt + grad(u) a) + grad p - mu lap u [N/mm^3].
-
-    (-div sigma differs by mu grad(div u), zero for the exact solution; both
-    viscous terms vanish on P1.)
-    """
-    return rho * (dudt + grad(u) * a) + grad(p) - mu * div(grad(u))
-
-
-def tau(a, rho, mu, inv_dt, cell):
-    """tau_M [ms] and tau_C [mm^2/ms] from the cell metric (Bazilevs et al. 2007)."""
-    K = JacobianInverse(cell)
+def tau(a, rho, mu, inv_dt, K):
+    """tau_M [ms] and tau_C [mm^2/ms] from the cell metric K = dxi/dx (Bazilevs et al. 2007)."""
     G = K.T * K
     g = as_vector([K[0, j] + K[1, j] + K[2, j] for j in range(3)])
     nu = mu / rho
@@ -66,8 +67,27 @@ def tau(a, rho, mu, inv_dt, cell):
     return tau_m, tau_c
 
 
+def _residual(grad_x, u, p, v, q, dudt, a, tau_m, tau_c, rho, mu, continuity_scale):
+    """The stabilised integrand with the current gradient grad_x (per unit current volume).
+
+    The strong momentum residual r_M = rho (du/dt + grad(u) a) + grad p
+    leaves out -mu lap u: it vanishes for the piecewise linear velocity of
+    the built element on affine cells, fixed or moved by a piecewise
+    linear d.
+    """
+    grad_u = grad_x(u)
+    div_u = tr(grad_u)
+    r_m = rho * (dudt + grad_u * a) + grad_x(p)
+    galerkin = (rho * inner(dudt + grad_u * a, v) + inner(stress(grad_u, p, mu), grad_x(v))
+                + continuity_scale * q * div_u)                      # inertia, stress, continuity
+    supg = tau_m * inner(grad_x(v) * a, r_m)                           # streamline upwinding
+    pspg = continuity_scale * tau_m / rho * inner(grad_x(q), r_m)      # pressure stabilisation
+    lsic = rho * tau_c * div_u * tr(grad_x(v))                         # grad-div
+    return galerkin + supg + pspg + lsic
+
+
 def cell_residual(u, p, v, q, dudt, w, u_tau, rho, mu, inv_dt, cell, continuity_scale):
-    """The stabilised residual's cell integrand, tested with (v, q).
+    """The stabilised residual's cell integrand on the current mesh, tested with (v, q).
 
     The parameters tau are taken at the velocity u_tau (the last time
     step's): they vary by orders of magnitude with the velocity, and
@@ -76,15 +96,38 @@ def cell_residual(u, p, v, q, dudt, w, u_tau, rho, mu, inv_dt, cell, continuity_
     `continuity_scale` [g/(mm^2 ms)] multiplies the continuity rows so
     that they too are forces [N]: one residual norm for both equations.
     """
-    a = u - w
-    r_m = momentum_residual(u, p, dudt, a, rho, mu)
-    tau_m, tau_c = tau(u_tau - w, rho, mu, inv_dt, cell)
-    galerkin = (rho * inner(dudt + grad(u) * a, v) + inner(stress(u, p, mu), grad(v))
-                + continuity_scale * q * div(u))
-    supg = tau_m * inner(grad(v) * a, r_m)
-    pspg = continuity_scale * tau_m / rho * inner(grad(q), r_m)
-    lsic = rho * tau_c * div(u) * div(v)
-    return galerkin + supg + pspg + lsic
+    tau_m, tau_c = tau(u_tau - w, rho, mu, inv_dt, JacobianInverse(cell))
+    return _residual(grad, u, p, v, q, dudt, u - w, tau_m, tau_c, rho, mu, continuity_scale)
+
+
+def cell_residual_ale(u, p, v, q, dudt, w, F, u_tau, w_tau, F_tau, rho, mu, inv_dt, cell,
+                      continuity_scale):
+    """The same residual on the reference mesh, per unit reference volume.
+
+    F = I + Grad d maps the reference mesh onto the current one; w is the
+    mesh velocity. tau is lagged like the velocity: taken at the last time
+    step's velocity u_tau, mesh velocity w_tau and mesh map F_tau, with the
+    current cell metric K = dxi/dX F_tau^-1.
+    """
+    F_inv = inv(F)
+
+    def grad_x(f):
+        return dot(grad(f), F_inv)
+
+    tau_m, tau_c = tau(u_tau - w_tau, rho, mu, inv_dt, JacobianInverse(cell) * inv(F_tau))
+    return det(F) * _residual(grad_x, u, p, v, q, dudt, u - w, tau_m, tau_c, rho, mu,
+                              continuity_scale)
+
+
+def wall_traction(u, p, mu, F, N):
+    """Traction sigma n da of the air on its boundary, per unit reference area (Nanson).
+
+    sigma n da = sigma J F^-T N dA with N the reference outward normal of
+    the air: the force the air receives from beyond its boundary is
+    sigma n; the solid there receives the opposite.
+    """
+    F_inv = inv(F)
+    return stress(dot(grad(u), F_inv), p, mu) * det(F) * F_inv.T * N
 
 
 def backflow(u, v, w, n, rho, beta):

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 
 #include <dolfinx/fem/assembler.h>
@@ -10,6 +11,7 @@
 #include <dolfinx/fem/utils.h>
 #include <dolfinx/la/petsc.h>
 
+#include "air_ale_p1_full.h"
 #include "air_p1_full.h"
 
 namespace nct::air
@@ -18,23 +20,29 @@ namespace
 {
 using namespace dolfinx;
 
-/// Facet tag of the outlet in forms/air.py.
-constexpr std::int32_t outlet_tag = 1;
-
+/// Facet tags of the outlet and the interface in forms/air.py and forms/air_ale.py.
+constexpr std::int32_t outlet_tag = 1, interface_tag = 2;
 
 } // namespace
 
 Problem::Problem(const meshio::Tagged& m, const Fluid& fluid, const Boundaries& boundaries,
-                 double velocity_scale)
+                 double velocity_scale, std::shared_ptr<fem::Function<double>> mesh_displacement)
+    : d(std::move(mesh_displacement))
 {
-  const auto space = functionspace_form_air_p1_full_R;
+  const auto space = moving() ? functionspace_form_air_ale_p1_full_R : functionspace_form_air_p1_full_R;
   auto W = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(space, "up", m.mesh));
-  auto Wm = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(space, "w", m.mesh));
+  auto Wm = std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(space, moving() ? "w_n" : "w", m.mesh));
   up = std::make_shared<fem::Function<double>>(W);
   up_n = std::make_shared<fem::Function<double>>(W);
   up_nm1 = std::make_shared<fem::Function<double>>(W);
   w = std::make_shared<fem::Function<double>>(Wm);
   w->name = "mesh_velocity";
+  if (moving())
+  {
+    d_n = std::make_shared<fem::Function<double>>(d->function_space());
+    d_nm1 = std::make_shared<fem::Function<double>>(d->function_space());
+  }
 
   auto [V, velocity_map] = W->sub({0})->collapse();
   auto [Q, pressure_map] = W->sub({1})->collapse();
@@ -58,21 +66,41 @@ Problem::Problem(const meshio::Tagged& m, const Fluid& fluid, const Boundaries& 
         std::pair{"c2", 0.0}})
     _constants[name] = std::make_shared<fem::Constant<double>>(value);
 
-  std::map<std::int32_t, std::int32_t> outlet_of_group;
+  std::map<std::int32_t, std::int32_t> facet_tag;
   for (auto g : boundaries.outlet)
-    outlet_of_group[g] = outlet_tag;
-  auto outlet_tags = std::make_shared<mesh::MeshTags<std::int32_t>>(
-      meshio::retag(*m.facets, outlet_of_group));
+    facet_tag[g] = outlet_tag;
+  for (auto g : boundaries.interface)
+    facet_tag[g] = interface_tag;
+  auto facet_tags = std::make_shared<mesh::MeshTags<std::int32_t>>(
+      meshio::retag(*m.facets, facet_tag));
   const std::map<fem::IntegralType, const mesh::MeshTags<int>*> subdomains
-      = {{fem::IntegralType::exterior_facet, outlet_tags.get()}};
-  const std::map<std::string, std::shared_ptr<const fem::Function<double>>> coeffs
-      = {{"up", up}, {"up_n", up_n}, {"up_nm1", up_nm1}, {"w", w}};
+      = {{fem::IntegralType::exterior_facet, facet_tags.get()}};
+  std::map<std::string, std::shared_ptr<const fem::Function<double>>> coeffs
+      = {{"up", up}, {"up_n", up_n}, {"up_nm1", up_nm1}, {moving() ? "w_n" : "w", w}};
+  if (moving())
+    coeffs.insert({{"d", d}, {"d_n", d_n}, {"d_nm1", d_nm1}});
   const std::map<std::string, std::shared_ptr<const fem::Constant<double>>> constants(
       _constants.begin(), _constants.end());
-  _R = std::make_shared<fem::Form<double>>(
-      fem::create_form<double>(*form_air_p1_full_R, {W}, coeffs, constants, subdomains));
-  _J = std::make_shared<fem::Form<double>>(
-      fem::create_form<double>(*form_air_p1_full_J, {W, W}, coeffs, constants, subdomains));
+  auto form = [&](const ufcx_form& f, std::vector<std::shared_ptr<const fem::FunctionSpace>> V)
+  {
+    return std::make_shared<fem::Form<double>>(fem::create_form<double>(
+        f, V, coeffs, constants, subdomains, V.empty() ? m.mesh : nullptr));
+  };
+  if (moving())
+  {
+    _R = form(*form_air_ale_p1_full_R, {W});
+    _J = form(*form_air_ale_p1_full_J, {W, W});
+    _J_mesh = form(*form_air_ale_p1_full_J_mesh, {W, d->function_space()});
+    _force = {form(*form_air_ale_p1_full_force_x, {}), form(*form_air_ale_p1_full_force_y, {}),
+              form(*form_air_ale_p1_full_force_z, {})};
+    _mesh_jacobian = std::make_shared<fem::Expression<double>>(fem::create_expression<double>(
+        *expression_air_ale_p1_full_mesh_jacobian, coeffs, {}, m.mesh));
+  }
+  else
+  {
+    _R = form(*form_air_p1_full_R, {W});
+    _J = form(*form_air_p1_full_J, {W, W});
+  }
 
   // Dirichlet conditions: the inlet first, so that walls win on its rim.
   auto W0 = W->sub({0});
@@ -147,6 +175,18 @@ void Problem::set_time_step(double dt, int order)
 
 void Problem::advance()
 {
+  if (moving())
+  {
+    // The step's mesh velocity (for the next step's tau), then the history.
+    const double inv_dt = _constants["inv_dt"]->value[0], c0 = _constants["c0"]->value[0],
+                 c1 = _constants["c1"]->value[0], c2 = _constants["c2"]->value[0];
+    auto x = d->x()->array(), xn = d_n->x()->array(), xnm1 = d_nm1->x()->array();
+    auto wv = w->x()->mutable_array();
+    for (std::size_t i = 0; i < wv.size(); ++i)
+      wv[i] = inv_dt * (c0 * x[i] + c1 * xn[i] + c2 * xnm1[i]);
+    std::copy(xn.begin(), xn.end(), d_nm1->x()->mutable_array().begin());
+    std::copy(x.begin(), x.end(), d_n->x()->mutable_array().begin());
+  }
   std::copy(up_n->x()->array().begin(), up_n->x()->array().end(),
             up_nm1->x()->mutable_array().begin());
   std::copy(up->x()->array().begin(), up->x()->array().end(),
@@ -185,6 +225,61 @@ void Problem::update_fields()
   auto p = pressure->x()->mutable_array();
   for (std::size_t i = 0; i < _pressure_dofs.size(); ++i)
     p[i] = x[_pressure_dofs[i]];
+}
+
+std::vector<std::int8_t> Problem::dirichlet_marker() const
+{
+  const auto& map = *up->function_space()->dofmap()->index_map;
+  std::vector<std::int8_t> marker(
+      up->function_space()->dofmap()->index_map_bs() * (map.size_local() + map.num_ghosts()), 0);
+  for (const auto& bc : _bcs)
+    bc->mark_dofs(marker);
+  return marker;
+}
+
+std::array<double, 3> Problem::interface_force() const
+{
+  std::array<double, 3> f;
+  for (int i = 0; i < 3; ++i)
+    f[i] = fem::assemble_scalar(*_force.at(i));
+  MPI_Allreduce(MPI_IN_PLACE, f.data(), 3, MPI_DOUBLE, MPI_SUM, up->function_space()->mesh()->comm());
+  return f;
+}
+
+std::pair<double, std::array<double, 3>> Problem::smallest_mesh_jacobian() const
+{
+  const auto& mesh = *up->function_space()->mesh();
+  const std::int32_t n = mesh.topology().index_map(3)->size_local();
+  std::vector<std::int32_t> cells(n);
+  std::iota(cells.begin(), cells.end(), 0);
+  struct Table
+  {
+    double& operator()(std::size_t i, std::size_t) { return data[i]; }
+    std::vector<double> data;
+  } values{std::vector<double>(n)};
+  _mesh_jacobian->eval(std::span<const std::int32_t>(cells), values);
+  struct
+  {
+    double value;
+    int rank;
+  } mine{std::numeric_limits<double>::infinity(), 0}, best;
+  MPI_Comm_rank(mesh.comm(), &mine.rank);
+  std::int32_t worst = -1;
+  for (std::int32_t c = 0; c < n; ++c)
+    if (std::isnan(values.data[c]) || values.data[c] < mine.value)
+    {
+      mine.value = std::isnan(values.data[c]) ? -std::numeric_limits<double>::infinity()
+                                              : values.data[c];
+      worst = c;
+    }
+  std::array<double, 3> place{0, 0, 0};
+  if (worst >= 0)
+    for (auto node : mesh.geometry().dofmap().links(worst))
+      for (int j = 0; j < 3; ++j)
+        place[j] += mesh.geometry().x()[3 * node + j] / 4;
+  MPI_Allreduce(&mine, &best, 1, MPI_DOUBLE_INT, MPI_MINLOC, mesh.comm());
+  MPI_Bcast(place.data(), 3, MPI_DOUBLE, best.rank, mesh.comm());
+  return {best.value, place};
 }
 
 std::int64_t Problem::dofs() const

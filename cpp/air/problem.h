@@ -11,6 +11,7 @@
 
 #include <dolfinx/fem/Constant.h>
 #include <dolfinx/fem/DirichletBC.h>
+#include <dolfinx/fem/Expression.h>
 #include <dolfinx/fem/Form.h>
 #include <dolfinx/fem/Function.h>
 #include <dolfinx/la/Vector.h>
@@ -38,11 +39,19 @@ struct Boundaries
   std::vector<std::pair<std::int32_t, std::vector<int>>> zero;
   std::vector<std::int32_t> inlet;  ///< velocity = set_inlet's field
   std::vector<std::int32_t> outlet; ///< backflow stabilised
+  /// The fluid-solid interface of a moving mesh: its velocity is the
+  /// solid's (a coupling's constraint, not a condition here); the air's
+  /// force on it is measured there.
+  std::vector<std::int32_t> interface;
 };
 
-/// The mixed velocity-pressure problem of forms/air.py. The mesh velocity
-/// w is a coefficient (zero: a rigid mesh); a moving mesh changes the
-/// geometry's coordinates and w together.
+/// The mixed velocity-pressure problem of the air, in one of two
+/// formulations: on its mesh's own coordinates with a given mesh velocity
+/// w (forms/air.py; zero: a rigid mesh; a moving mesh changes the
+/// geometry's coordinates and w together), or on a fixed reference mesh
+/// that a mesh displacement d maps onto the current air (forms/air_ale.py:
+/// the residual depends on d, with an exact derivative, for a monolithic
+/// coupled solve; the mesh velocity is the BDF derivative of d).
 class Problem
 {
 public:
@@ -51,8 +60,10 @@ public:
   /// element, which the mesh motion and the solid's P1 geometry share.
   /// `velocity_scale` [mm/ms]: a typical speed, which makes the continuity
   /// rows forces like the momentum rows (continuity_scale = rho U).
+  /// `d`: the mesh displacement (P1 vector on the mesh) of the moving
+  /// formulation, or null for the fixed one.
   Problem(const meshio::Tagged& m, const Fluid& fluid, const Boundaries& boundaries,
-          double velocity_scale);
+          double velocity_scale, std::shared_ptr<dolfinx::fem::Function<double>> d = nullptr);
 
   /// The inlet velocity: `shape(x)` per inlet point, times `scale` (set
   /// per step by set_inlet_scale).
@@ -65,7 +76,8 @@ public:
   /// BDF2 from the last advanced step's length; BDF1 before any): call
   /// before every step. dt = infinity: steady flow.
   void set_time_step(double dt, int order);
-  /// The converged step becomes the old state.
+  /// The converged step becomes the old state (and, moving, the mesh
+  /// velocity of the step is kept for the next step's tau).
   void advance();
 
   /// b = R(u, p), with b = d (u - g) on Dirichlet dofs: d = rho U (1 mm)^2
@@ -80,15 +92,35 @@ public:
   void update_fields();
   std::shared_ptr<dolfinx::fem::Function<double>> velocity, pressure;
 
-  /// The unknowns (u, p) now, at t_n and at t_{n-1}; the mesh velocity.
+  /// The unknowns (u, p) now, at t_n and at t_{n-1}; the mesh velocity
+  /// (fixed: given; moving: the last step's, for tau).
   std::shared_ptr<dolfinx::fem::Function<double>> up, up_n, up_nm1, w;
+  /// Moving: the mesh displacement [mm] now, at t_n and at t_{n-1}.
+  std::shared_ptr<dolfinx::fem::Function<double>> d, d_n, d_nm1;
+  bool moving() const { return d != nullptr; }
   /// Dofs of (u, p) (local, owned and ghost) of the velocity and the pressure.
   const std::vector<std::int32_t>& velocity_dofs() const { return _velocity_dofs; }
   const std::vector<std::int32_t>& pressure_dofs() const { return _pressure_dofs; }
   std::int64_t dofs() const;
 
+  /// dR/d(u, p) and (moving) dR/dd, the shape derivative.
+  const dolfinx::fem::Form<double>& jacobian_form() const { return *_J; }
+  const dolfinx::fem::Form<double>& jacobian_mesh_form() const { return *_J_mesh; }
+  /// Per local entry of (u, p): 1 on a Dirichlet dof.
+  std::vector<std::int8_t> dirichlet_marker() const;
+  /// Diagonal of a Dirichlet row [g/ms].
+  double bc_diagonal() const { return _bc_diagonal; }
+  /// Moving: the air's force on the interface, -integral sigma n da [N]
+  /// (the meshed part; every rank gets it).
+  std::array<double, 3> interface_force() const;
+  /// Moving: the smallest det F of the mesh map over the cells, and the
+  /// reference centroid of its cell (every rank gets it); -inf if NaN.
+  std::pair<double, std::array<double, 3>> smallest_mesh_jacobian() const;
+
 private:
-  std::shared_ptr<dolfinx::fem::Form<double>> _R, _J;
+  std::shared_ptr<dolfinx::fem::Form<double>> _R, _J, _J_mesh;
+  std::array<std::shared_ptr<dolfinx::fem::Form<double>>, 3> _force;
+  std::shared_ptr<dolfinx::fem::Expression<double>> _mesh_jacobian;
   std::map<std::string, std::shared_ptr<dolfinx::fem::Constant<double>>> _constants;
   std::shared_ptr<dolfinx::fem::Function<double>> _inlet_shape, _inlet; ///< collapsed velocity space
   std::vector<std::shared_ptr<const dolfinx::fem::DirichletBC<double>>> _bcs;

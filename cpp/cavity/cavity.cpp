@@ -54,34 +54,43 @@ Closed::Closed(solid::Problem& problem, std::vector<double> pressures)
 {
 }
 
+void Closed::apply() { _problem.set_cavity_pressures(_pressures); }
+
+void Closed::constraints(std::vector<double>& g) const
+{
+  const auto volumes = _problem.cavity_volumes();
+  const double s = _problem.symmetry_factor();
+  for (std::size_t c = 0; c < g.size(); ++c)
+    g[c] = (_targets[c] - volumes[c]) / s;
+}
+
+void Closed::border(std::vector<dolfinx::la::Vector<double>>& B,
+                    std::vector<dolfinx::la::Vector<double>>& C) const
+{
+  for (std::size_t c = 0; c < B.size(); ++c)
+  {
+    _problem.cavity_load(c, B[c]);
+    _problem.volume_derivative(c, C[c]);
+    for (double& v : C[c].mutable_array())
+      v = -v;
+  }
+}
+
 solver::System Closed::system()
 {
   auto residual = [this](dolfinx::la::Vector<double>& b, std::vector<double>& g)
   {
-    _problem.set_cavity_pressures(_pressures);
+    apply();
     _problem.residual(b);
-    const auto volumes = _problem.cavity_volumes();
-    const double s = _problem.symmetry_factor();
-    for (std::size_t c = 0; c < g.size(); ++c)
-      g[c] = (_targets[c] - volumes[c]) / s;
-  };
-  auto border = [this](auto& B, auto& C)
-  {
-    for (std::size_t c = 0; c < B.size(); ++c)
-    {
-      _problem.cavity_load(c, B[c]);
-      _problem.volume_derivative(c, C[c]);
-      for (double& v : C[c].mutable_array())
-        v = -v;
-    }
+    constraints(g);
   };
   return with_checks({_problem.u->x().get(), &_pressures, residual,
                       [this](Mat A)
                       {
-                        _problem.set_cavity_pressures(_pressures);
+                        apply();
                         _problem.jacobian(A);
                       },
-                      border, nullptr, nullptr},
+                      [this](auto& B, auto& C) { border(B, C); }, nullptr, nullptr},
                      _problem);
 }
 

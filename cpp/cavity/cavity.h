@@ -35,7 +35,19 @@ public:
   /// Close the cavities at the problem's current state: the targets are
   /// the current volumes, the pressures start at `pressures` [MPa].
   Closed(solid::Problem& problem, std::vector<double> pressures);
+  /// The solid with its closed cavities: x = u, y = the pressures.
   solver::System system();
+
+  /// The pieces a larger system composes, at the problem's current u:
+  /// set the problem's cavity pressures from the unknowns,
+  void apply();
+  /// g = the constraints G_c (the unknowns' residual),
+  void constraints(std::vector<double>& g) const;
+  /// B[c] = dR/dp_c and C[c] = dG_c/du, laid out as u.
+  void border(std::vector<dolfinx::la::Vector<double>>& B,
+              std::vector<dolfinx::la::Vector<double>>& C) const;
+  /// The unknowns (the pressures [MPa]), for a System's y.
+  std::vector<double>* unknowns() { return &_pressures; }
 
   /// Cavity pressures [MPa] (the unknowns).
   const std::vector<double>& pressures() const { return _pressures; }

@@ -106,30 +106,12 @@ nlohmann::json run_air(MPI_Comm comm, const scene::Scene& s, io::RunFolder& fold
   const bool with_eye = s.string("air.eye") == "rigid";
   const meshio::Tagged& m = a.mesh;
 
-  // Air properties and conditions (design.md section 8): no slip on the
-  // nozzle and the eye, the normal velocity zero on the symmetry planes,
-  // the inlet's velocity, sigma n = 0 on the outlet.
-  const air::Fluid fluid{s.real("air.density"), s.real("air.viscosity"), s.real("air.backflow")};
+  // Air properties and conditions (design.md section 8).
+  const air::Fluid fluid = air_fluid(s);
   const double U = s.real("air.inlet_velocity");
-  air::Boundaries boundaries;
-  boundaries.zero = {{group(m, "nozzle"), {0, 1, 2}},
-                     {group(m, "air_symmetry_x"), {0}},
-                     {group(m, "air_symmetry_z"), {2}}};
-  if (with_eye)
-    for (const char* wall : {"anterior_cornea", "anterior_sclera"})
-      boundaries.zero.push_back({group(m, wall), {0, 1, 2}});
-  boundaries.inlet = {group(m, "inlet")};
-  boundaries.outlet = {group(m, "outlet")};
   double t = MPI_Wtime();
-  air::Problem problem(m, fluid, boundaries, std::max(U, 1.0));
-  const double bore = a.domain.nozzle_diameter / 2;
-  if (s.string("air.inlet_profile") == "plug")
-    problem.set_inlet([](const auto&) { return std::array<double, 3>{0, -1, 0}; });
-  else
-    problem.set_inlet([bore](const auto& x) {
-      const double r2 = (x[0] * x[0] + x[2] * x[2]) / (bore * bore);
-      return std::array<double, 3>{0, -std::max(0.0, 1 - r2), 0};
-    });
+  air::Problem problem(m, fluid, air_boundaries(m, true), std::max(U, 1.0));
+  set_air_inlet(problem, s, a.domain);
   const double t_setup = MPI_Wtime() - t;
   const std::int64_t cells = m.mesh->topology().index_map(3)->size_global();
   folder.log(format("air mesh: %lld tetrahedra (%lld air, %lld eye in the gmsh model), "

@@ -164,14 +164,10 @@ void check_file_groups(const scene::Scene& s, const meshio::Groups& groups)
       surface_tag(groups, name, file, key);
 }
 
-MeshSetup eye_mesh(MPI_Comm comm, const scene::Scene& s)
+/// The eye's parts, boundaries, fibres and probes on its distributed mesh.
+MeshSetup eye_setup(meshio::Tagged mesh, const eye::Geometry& g, const eye::Derived& d)
 {
-  const eye::Geometry g = eye_geometry(s);
-  const eye::Derived d = eye_derived(s);
-  const eye::Refinement r = eye_refinement(s, g);
-
-  on_rank_0(comm, s, "the eye", [&] { eye::build(g, r); });
-  MeshSetup m{meshio::distribute(comm, meshio::extract(comm)), {}, {}, {}, {}, {}, {}, {}};
+  MeshSetup m{std::move(mesh), {}, {}, {}, {}, {}, {}, {}};
   for (auto& [name, tag] : m.mesh.groups.volumes)
     m.parts[tag] = name;
   const auto& gs = m.mesh.groups;
@@ -204,6 +200,43 @@ MeshSetup eye_mesh(MPI_Comm comm, const scene::Scene& s)
   m.probes = {{0.0, d.apex_y, 0.0}};
   m.probe_names = {"apex"};
   return m;
+}
+
+MeshSetup eye_mesh(MPI_Comm comm, const scene::Scene& s)
+{
+  const eye::Geometry g = eye_geometry(s);
+  const eye::Derived d = eye_derived(s);
+  const eye::Refinement r = eye_refinement(s, g);
+  on_rank_0(comm, s, "the eye", [&] { eye::build(g, r); });
+  return eye_setup(meshio::distribute(comm, meshio::extract(comm)), g, d);
+}
+
+/// The eye and the air about it, meshed in one gmsh model (conforming on
+/// the eye's anterior surface), then split into two distributed meshes.
+std::pair<MeshSetup, AirMesh> eye_and_air(MPI_Comm comm, const scene::Scene& s)
+{
+  const eye::Geometry g = eye_geometry(s);
+  const eye::Refinement r = eye_refinement(s, g);
+  AirMesh a;
+  a.eye = eye_derived(s);
+  a.domain = air_domain(s);
+  on_rank_0(comm, s, "the eye and the air", [&] {
+    eye::build(g, r);
+    air::build(a.domain, a.eye.apex_y, g.cut_y, g.sclera_outer_radius, true);
+  });
+  const meshio::Model whole = meshio::extract(comm);
+  const std::int32_t air_tag = static_cast<std::int32_t>(air::Group::volume);
+  std::vector<std::int32_t> eye_tags;
+  for (auto& [name, tag] : whole.groups.volumes)
+    if (tag != air_tag)
+      eye_tags.push_back(tag);
+  for (auto group : whole.cell_groups)
+    ++(group == air_tag ? a.air_cells : a.eye_cells);
+  MPI_Bcast(&a.air_cells, 1, MPI_INT64_T, 0, comm);
+  MPI_Bcast(&a.eye_cells, 1, MPI_INT64_T, 0, comm);
+  a.mesh = meshio::distribute(comm, meshio::keep(whole, {air_tag}));
+  return {eye_setup(meshio::distribute(comm, meshio::keep(whole, eye_tags)), g, a.eye),
+          std::move(a)};
 }
 
 MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s)
@@ -288,12 +321,13 @@ void check(MPI_Comm comm, const scene::Scene& s)
   if (s.string("mesh.source") == "eye")
   {
     const eye::Derived d = eye_derived(s);
-    if (s.string("puff.load") == "air")
+    const std::string load = s.string("puff.load");
+    if (load == "air" || load == "fsi")
       try
       {
+        const bool with_eye = load == "fsi" || s.string("air.eye") == "rigid";
         air::validate(air_domain(s), d.apex_y, s.real("geometry.cut_y"),
-                      s.string("air.eye") == "rigid" ? s.real("geometry.sclera_outer_radius")
-                                                     : 0.0);
+                      with_eye ? s.real("geometry.sclera_outer_radius") : 0.0);
       }
       catch (const std::invalid_argument& e)
       {
@@ -345,6 +379,81 @@ AirMesh make_air_mesh(MPI_Comm comm, const scene::Scene& s)
   return a;
 }
 
+air::Fluid air_fluid(const scene::Scene& s)
+{
+  return {s.real("air.density"), s.real("air.viscosity"), s.real("air.backflow")};
+}
+
+air::Boundaries air_boundaries(const meshio::Tagged& m, bool eye_is_wall)
+{
+  // No slip on the nozzle (and a rigid eye), the normal velocity zero on
+  // the symmetry planes, the inlet's velocity, sigma n = 0 on the outlet.
+  auto group = [&](const char* name) { return m.groups.surfaces.at(name); };
+  air::Boundaries b;
+  b.zero = {{group("nozzle"), {0, 1, 2}},
+            {group("air_symmetry_x"), {0}},
+            {group("air_symmetry_z"), {2}}};
+  for (const char* wall : {"anterior_cornea", "anterior_sclera"})
+    if (m.groups.surfaces.count(wall))
+    {
+      if (eye_is_wall)
+        b.zero.push_back({group(wall), {0, 1, 2}});
+      else
+        b.interface.push_back(group(wall));
+    }
+  b.inlet = {group("inlet")};
+  b.outlet = {group("outlet")};
+  return b;
+}
+
+void set_air_inlet(air::Problem& problem, const scene::Scene& s, const air::Domain& domain)
+{
+  const double bore = domain.nozzle_diameter / 2;
+  if (s.string("air.inlet_profile") == "plug")
+    problem.set_inlet([](const auto&) { return std::array<double, 3>{0, -1, 0}; });
+  else
+    problem.set_inlet([bore](const auto& x) {
+      const double r2 = (x[0] * x[0] + x[2] * x[2]) / (bore * bore);
+      return std::array<double, 3>{0, -std::max(0.0, 1 - r2), 0};
+    });
+}
+
+FsiBlocks make_fsi(const scene::Scene& s, Model& model)
+{
+  const AirMesh& a = model.air.value();
+  const air::Boundaries boundaries = air_boundaries(a.mesh, false);
+  const double U = std::max(s.real("air.inlet_velocity"), 1.0);
+  const air::Fluid fluid = air_fluid(s);
+  // The mesh motion: held where the air's boundary is (the symmetry
+  // planes: their normal component), driven on the interface; its rows'
+  // scale, the air's dynamic pressure rho U^2.
+  mesh_motion::Boundaries mb;
+  for (auto& [g, components] : boundaries.zero)
+    mb.fixed.push_back({g, components});
+  for (auto g : boundaries.inlet)
+    mb.fixed.push_back({g, {0, 1, 2}});
+  for (auto g : boundaries.outlet)
+    mb.fixed.push_back({g, {0, 1, 2}});
+  mb.interface = boundaries.interface;
+  const mesh_motion::Settings ms{s.string("mesh_motion.model"), s.real("mesh_motion.stiffening"),
+                                 s.string("mesh_motion.model") == "elastic"
+                                     ? s.real("mesh_motion.poisson_ratio")
+                                     : 0.3,
+                                 s.real("mesh_motion.distance"), fluid.density * U * U};
+  FsiBlocks f;
+  f.motion = std::make_unique<mesh_motion::Problem>(a.mesh, ms, mb);
+  f.air = std::make_unique<air::Problem>(a.mesh, fluid, boundaries, U, f.motion->d);
+  set_air_inlet(*f.air, s, a.domain);
+  fsi::Interface interface;
+  const auto& solid_groups = model.setup.mesh.groups.surfaces;
+  for (const char* surface : {"anterior_cornea", "anterior_sclera"})
+    interface.solid.push_back(solid_groups.at(surface));
+  interface.air = boundaries.interface;
+  f.coupled = std::make_unique<fsi::Coupled>(*model.problem, *f.air, *f.motion, model.setup.mesh,
+                                             a.mesh, interface, s.boolean("fsi.shape_derivative"));
+  return f;
+}
+
 Model make_model(MPI_Comm comm, const scene::Scene& s)
 {
   check(comm, s);
@@ -353,7 +462,14 @@ Model make_model(MPI_Comm comm, const scene::Scene& s)
   double t = MPI_Wtime();
   {
     GmshSession gmsh_session;
-    model.setup = model.eye ? eye_mesh(comm, s) : file_mesh(comm, s);
+    if (s.string("puff.load") == "fsi")
+    {
+      auto [setup, air] = eye_and_air(comm, s);
+      model.setup = std::move(setup);
+      model.air = std::move(air);
+    }
+    else
+      model.setup = model.eye ? eye_mesh(comm, s) : file_mesh(comm, s);
   }
   MeshSetup& m = model.setup;
   for (auto& p : s.points("output.probes"))

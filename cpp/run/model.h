@@ -3,13 +3,17 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <mpi.h>
 
 #include "air/domain.h"
+#include "air/problem.h"
 #include "eye/geometry.h"
+#include "fsi/coupled.h"
+#include "mesh_motion/problem.h"
 #include "meshio/model.h"
 #include "puff/load.h"
 #include "scene/scene.h"
@@ -32,22 +36,9 @@ struct MeshSetup
   std::vector<std::string> cavity_names; ///< one per entry of boundaries.cavities
 };
 
-/// The scene's mesh (built or read, then distributed) and the solid on it.
-struct Model
-{
-  MeshSetup setup;
-  std::unique_ptr<solid::Problem> problem;
-  bool eye = false;   ///< the parametric eye (else an external mesh)
-  double t_mesh = 0;  ///< wall time of meshing and distribution [s]
-  double t_setup = 0; ///< wall time of the problem's setup [s]
-};
-
-/// Build the scene's model. Throws scene::Error on bad input.
-Model make_model(MPI_Comm comm, const scene::Scene& scene);
-
-/// The mesh of the air (puff.load = "air"): the air domain meshed about
-/// the idealised eye (air.eye = "rigid") or in its place ("none"), in one
-/// gmsh model with the eye; only the air's cells are kept.
+/// The air's mesh: the air domain meshed with the idealised eye (or in
+/// its place) in one gmsh model, so that the eye's anterior surface is
+/// the air's wall node for node.
 struct AirMesh
 {
   meshio::Tagged mesh;
@@ -56,6 +47,43 @@ struct AirMesh
   std::int64_t eye_cells = 0, air_cells = 0; ///< tetrahedra of the whole model
   double t_mesh = 0; ///< wall time of meshing and distribution [s]
 };
+
+/// The scene's mesh (built or read, then distributed) and the solid on it.
+struct Model
+{
+  MeshSetup setup;
+  std::unique_ptr<solid::Problem> problem;
+  bool eye = false;   ///< the parametric eye (else an external mesh)
+  double t_mesh = 0;  ///< wall time of meshing and distribution [s]
+  double t_setup = 0; ///< wall time of the problem's setup [s]
+  /// puff.load = "fsi": the air about the eye, meshed with it.
+  std::optional<AirMesh> air;
+};
+
+/// Build the scene's model. Throws scene::Error on bad input.
+Model make_model(MPI_Comm comm, const scene::Scene& scene);
+
+/// The blocks of the two-way coupled puff (puff.load = "fsi") on a model
+/// with an air mesh: the air on its moving mesh, the mesh motion, and the
+/// coupled system over them and the model's solid (paired on the eye's
+/// anterior surface: build before the solid's geometry moves).
+struct FsiBlocks
+{
+  std::unique_ptr<mesh_motion::Problem> motion;
+  std::unique_ptr<air::Problem> air;
+  std::unique_ptr<fsi::Coupled> coupled;
+};
+FsiBlocks make_fsi(const scene::Scene& scene, Model& model);
+
+/// The air's conditions on the air mesh (the eye, if any, a wall or the
+/// interface), its properties, and the inlet's shape, from [air].
+air::Fluid air_fluid(const scene::Scene& scene);
+air::Boundaries air_boundaries(const meshio::Tagged& mesh, bool eye_is_wall);
+void set_air_inlet(air::Problem& problem, const scene::Scene& scene, const air::Domain& domain);
+
+/// The mesh of the air alone (puff.load = "air"): the air domain meshed
+/// about the idealised eye (air.eye = "rigid") or in its place ("none"),
+/// in one gmsh model with the eye; only the air's cells are kept.
 AirMesh make_air_mesh(MPI_Comm comm, const scene::Scene& scene);
 
 /// The puff's air pressure p(r, t) [mmHg] (puff.load), or null for none.

@@ -215,20 +215,22 @@ std::vector<Key> declare()
                "held (it should not move); 0 skips the phase"});
   // phase: the air puff as a prescribed pressure p(r, t) on the anterior cornea
   k.push_back({"puff.load", K::choice, "\"none\"", "", -inf, inf,
-               {"none", "gaussian", "table", "air"},
+               {"none", "gaussian", "table", "air", "fsi"},
                "none skips the phase; gaussian = peak exp(-(t - peak_time)^2 / (2 "
                "width_t^2)) exp(-r^2 / (2 width_r^2)); table = a CSV file (t_ms, r_mm, "
                "p_mmHg) such as a CFD run writes; air = the air itself, computed from the "
-               "nozzle (air.*) on a rigid eye or on none, writing such a table"});
+               "nozzle (air.*) on a rigid eye or on none, writing such a table; fsi = the "
+               "air and the eye two-way coupled in one Newton system (air.*, mesh_motion.*, "
+               "fsi.*)"});
   const std::size_t puff_keys = k.size();
   k.push_back({"puff.duration", K::real, "20.0", "ms", 1e-3, 1e3, {},
-               "time followed from the start of the puff", "puff.load=gaussian|table|air"});
+               "time followed from the start of the puff", "puff.load=gaussian|table|air|fsi"});
   k.push_back({"puff.peak", K::real, "65.0", "mmHg", -1e4, 1e4, {},
                "peak air pressure at the apex", "puff.load=gaussian"});
   k.push_back({"puff.peak_time", K::real, "10.0", "ms", 0, 1e3, {},
-               "time of the peak from the start of the puff", "puff.load=gaussian|air"});
+               "time of the peak from the start of the puff", "puff.load=gaussian|air|fsi"});
   k.push_back({"puff.width_t", K::real, "3.0", "ms", 1e-3, 1e3, {},
-               "standard deviation in time", "puff.load=gaussian|air"});
+               "standard deviation in time", "puff.load=gaussian|air|fsi"});
   k.push_back({"puff.width_r", K::real, "1.5", "mm", 1e-3, 1e3, {},
                "standard deviation in the distance r from the eye's axis",
                "puff.load=gaussian"});
@@ -242,12 +244,13 @@ std::vector<Key> declare()
   k.push_back({"puff.flatness", K::real, "0.02", "mm", 1e-6, 1, {},
                "applanation length: the profile is flat where it stays within this of "
                "its height on the axis"});
-  only_when(k, puff_keys, "puff.load=gaussian|table");
-  // the air (puff.load = "air"): stabilised ALE Navier-Stokes, forms/air.py
+  only_when(k, puff_keys, "puff.load=gaussian|table|fsi");
+  // the air (puff.load = "air" or "fsi"): stabilised ALE Navier-Stokes,
+  // forms/air.py and forms/air_ale.py
   const std::size_t air_keys = k.size();
   k.push_back({"air.eye", K::choice, "\"rigid\"", "", -inf, inf, {"rigid", "none"},
                "rigid = the idealised eye (geometry.*, mesh.*) is a fixed no-slip wall in the "
-               "air; none = the free jet, the eye's place left to the air"});
+               "air; none = the free jet, the eye's place left to the air", "puff.load=air"});
   k.push_back({"air.density", K::real, "1.25e-6", "g/mm^3", 1e-9, 1e-2, {},
                "air density"});
   k.push_back({"air.viscosity", K::real, "1.8e-8", "MPa ms", 1e-12, 1, {},
@@ -262,7 +265,8 @@ std::vector<Key> declare()
   k.push_back({"air.backflow", K::real, "1.0", "", 0, 10, {},
                "outlet backflow stabilisation beta (>= 0.5 is energy stable; 0 turns it off)"});
   k.push_back({"air.dt", K::real, "0.25", "ms", 1e-5, 10, {},
-               "time step (halved when Newton fails, down to 2^-solver.max_step_cuts of it)"});
+               "time step (halved when Newton fails, down to 2^-solver.max_step_cuts of it); "
+               "the coupled puff steps by dynamics.dt", "puff.load=air"});
   k.push_back({"air.bdf_order", K::integer, "2", "", 1, 2, {},
                "order of the backward differentiation formula in time (the first step: 1)"});
   k.push_back({"air.output_interval", K::real, "1.0", "ms", 1e-5, 1e3, {},
@@ -285,7 +289,33 @@ std::vector<Key> declare()
                "radius of the finely meshed core about the axis"});
   k.push_back({"air.size_far", K::real, "5.0", "mm", 0.05, 100, {},
                "largest element size (sizes grow 0.25 mm per mm away from the core)"});
-  only_when(k, air_keys, "puff.load=air");
+  only_when(k, air_keys, "puff.load=air|fsi");
+  // the mesh motion (puff.load = "fsi"), forms/mesh_motion.py
+  const std::size_t fsi_keys = k.size();
+  k.push_back({"mesh_motion.model", K::choice, "\"elastic\"", "", -inf, inf,
+               {"harmonic", "elastic"},
+               "extension of the interface's displacement into the air: harmonic = each "
+               "component's Laplace equation, elastic = a linear pseudo-solid; both with "
+               "Jacobian-based stiffening (Stein, Tezduyar & Benney 2003)"});
+  k.push_back({"mesh_motion.stiffening", K::real, "1.0", "", 0, 5, {},
+               "power chi of the stiffening (J_0 / J_cell)^chi: small cells deform less; "
+               "0 switches it off"});
+  k.push_back({"mesh_motion.poisson_ratio", K::real, "0.3", "", 0, 0.49, {},
+               "Poisson's ratio of the elastic extension",
+               "puff.load=fsi,mesh_motion.model=elastic"});
+  k.push_back({"mesh_motion.distance", K::real, "3.0", "mm", 0.05, 1e3, {},
+               "only the air within this distance of the eye's surface moves; the rest of "
+               "the air mesh is fixed and carries no mesh-motion unknowns"});
+  // the coupling (puff.load = "fsi"), cpp/fsi
+  k.push_back({"fsi.shape_derivative", K::boolean, "true", "", -inf, inf, {},
+               "the Jacobian holds the air residual's derivative with respect to the mesh "
+               "motion (exact Newton); false leaves it out (fewer entries, more iterations)"});
+  k.push_back({"fsi.linear_solver", K::choice, "\"lu\"", "", -inf, inf,
+               {"lu", "fieldsplit"},
+               "lu = MUMPS on the whole coupled system; fieldsplit = FGMRES preconditioned "
+               "by block Gauss-Seidel over the solid and the air with the mesh motion, "
+               "each block's LU kept across iterations and steps"});
+  only_when(k, fsi_keys, "puff.load=fsi");
   // nonlinear and linear solver
   k.push_back({"solver.max_iterations", K::integer, "25", "", 1, 500, {},
                "Newton iterations per load step before the step is cut"});
@@ -338,14 +368,14 @@ void check_consistency(const Scene& s)
 
   // The biomarkers need the deepest frame and its neighbours.
   const std::string load = s.string("puff.load");
-  if ((load == "gaussian" || load == "table")
+  if ((load == "gaussian" || load == "table" || load == "fsi")
       && s.real("puff.duration") * s.real("puff.frame_rate") < 2e3)
     fail("key 'puff.duration': " + std::to_string(s.real("puff.duration"))
          + " ms holds fewer than 3 frames at puff.frame_rate = "
          + std::to_string(s.real("puff.frame_rate")) + "/s; needs at least "
          + std::to_string(2e3 / s.real("puff.frame_rate")) + " ms");
 
-  if (load == "air" && !eye)
+  if ((load == "air" || load == "fsi") && !eye)
     fail("key 'puff.load': the air is meshed about the idealised eye's place; it needs "
          "mesh.source = \"eye\"");
 

@@ -344,6 +344,24 @@ void Problem::advance()
 
 double Problem::load_level() const { return _dynamic ? 1 - _time.at("alpha_f")->value[0] : 1.0; }
 
+std::array<double, 3> Problem::velocity_coefficients() const
+{
+  const double dt = _time.at("dt")->value[0], beta = _time.at("beta")->value[0],
+               gamma = _time.at("gamma")->value[0];
+  return {gamma / (beta * dt), 1 - gamma / beta, dt * (1 - gamma / (2 * beta))};
+}
+
+std::vector<std::int8_t> Problem::dirichlet_marker() const
+{
+  const auto& dofmap = *u->function_space()->dofmap();
+  std::vector<std::int8_t> marker(
+      dofmap.index_map_bs() * (dofmap.index_map->size_local() + dofmap.index_map->num_ghosts()),
+      0);
+  for (const auto& bc : _bcs)
+    bc->mark_dofs(marker);
+  return marker;
+}
+
 std::vector<double>
 Problem::whole_model(const std::vector<std::shared_ptr<fem::Form<double>>>& forms) const
 {

@@ -94,6 +94,16 @@ public:
   /// Time of the loads within the step, as a fraction from t_n to t_{n+1}
   /// (1 - alpha_f; 1 when quasi-static): loads are set at that time.
   double load_level() const;
+  /// Dynamics: v_{n+1} = c[0] (u - u_n) + c[1] v_n + c[2] a_n, the
+  /// velocity the Newmark updates give the current u.
+  std::array<double, 3> velocity_coefficients() const;
+
+  /// dR/du of the current phase (quasi-static or dynamic), without
+  /// Dirichlet conditions: for assembly into a coupled system.
+  const dolfinx::fem::Form<double>& jacobian_form() const { return _dynamic ? *_J_dynamic : *_J; }
+  /// Per local scalar entry of u (owned and ghost): 1 on a Dirichlet dof
+  /// (whose value is always zero).
+  std::vector<std::int8_t> dirichlet_marker() const;
   /// Stored energy at u and kinetic energy at v_old [N mm = mJ], whole model
   /// (times the symmetry factor).
   double strain_energy() const;

@@ -1,0 +1,97 @@
+"""Formulation `air_ale`: the air on a moving mesh, written on the reference mesh.
+
+Unknowns (u, p) in one mixed space, equal-order continuous Lagrange of
+degree `degree` (CMake builds degree 1: P1/P1, stable by PSPG); the mesh
+displacement d (P1, the mesh's own element) is a coefficient here and the
+unknown of forms/mesh_motion.py. The current air is x = X + d(X) over the
+reference mesh X; with F = I + Grad d and J = det F, find (u, p) such that
+for every admissible (v, q)
+
+    sum_cells J [Galerkin + SUPG + PSPG + LSIC](u, p; v, q) dX
+  + integral_{outlet} -beta rho min((u - w) . n, 0) u . v ds = 0,
+
+(navier_stokes.cell_residual_ale), where the time derivatives at fixed
+reference points and the mesh velocity are the same BDF
+
+    du/dt|_X = inv_dt (c0 u + c1 u_n + c2 u_{n-1}),
+    w        = inv_dt (c0 d + c1 d_n + c2 d_{n-1}),
+
+(BDF1: c = 1, -1, 0; BDF2 with steps dt_{n+1}, dt_n: see cpp/air). The
+mesh velocity being the derivative of the nodes' places by the scheme
+that differentiates the nodal values makes a flow linear in x an exact
+discrete solution on any moving mesh (the geometric conservation law of
+the non-conservative ALE form; tests/test_air.cpp). The outlet's nodes
+never move (cpp/mesh_motion holds them), so its facets need no mapping.
+
+Forms:
+- R: the residual; J = dR/d(u, p); J_mesh = dR/dd, the shape derivative
+  (with the mesh velocity's dependence on d), exact;
+- force_x, force_y, force_z: the force of the air on the fluid-solid
+  interface, -integral sigma n da (navier_stokes.wall_traction), for a
+  check of the consistent reaction the coupled solver moves onto the solid;
+- mesh_jacobian (expression): det F per cell, whose sign shows a folded cell.
+
+`degree` and `quadrature_degree` are set by the CMake wrapper.
+"""
+from ufl import (Constant, Coefficient, FacetNormal, FiniteElement, Identity, Measure,
+                 MixedElement, TestFunctions, TrialFunction, VectorElement, as_vector, derivative,
+                 det, dot, grad, split, tetrahedron)
+
+import navier_stokes
+
+# Facet tags, shared with cpp/air/problem.cpp.
+OUTLET, INTERFACE = 1, 2
+
+velocity_element = VectorElement("Lagrange", tetrahedron, degree)  # noqa: F821 (wrapper)
+pressure_element = FiniteElement("Lagrange", tetrahedron, degree)  # noqa: F821
+element = MixedElement([velocity_element, pressure_element])
+mesh_element = VectorElement("Lagrange", tetrahedron, 1)
+
+v, q = TestFunctions(element)
+dup = TrialFunction(element)
+up = Coefficient(element)          # (u [mm/ms], p [MPa]) at t_{n+1}
+up_n = Coefficient(element)        # at t_n
+up_nm1 = Coefficient(element)      # at t_{n-1}
+d = Coefficient(mesh_element)      # mesh displacement [mm] at t_{n+1}
+d_n = Coefficient(mesh_element)    # at t_n
+d_nm1 = Coefficient(mesh_element)  # at t_{n-1}
+w_n = Coefficient(mesh_element)    # mesh velocity of the last step [mm/ms] (for tau)
+dd = TrialFunction(mesh_element)
+u, p = split(up)
+u_n, _ = split(up_n)
+u_nm1, _ = split(up_nm1)
+
+rho = Constant(tetrahedron)        # [g/mm^3]
+mu = Constant(tetrahedron)         # [MPa ms]
+inv_dt = Constant(tetrahedron)     # 1/dt [1/ms]; 0: steady
+c0 = Constant(tetrahedron)         # BDF coefficients
+c1 = Constant(tetrahedron)
+c2 = Constant(tetrahedron)
+beta = Constant(tetrahedron)       # backflow coefficient [-]
+continuity_scale = Constant(tetrahedron)  # [g/(mm^2 ms)]: continuity rows in N
+
+# Fixed quadrature: tau's square root and division make UFL's estimate explode.
+dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
+ds = Measure("ds", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
+N = FacetNormal(tetrahedron)       # reference outward normal of the air
+
+F = Identity(3) + grad(d)          # the mesh map's gradient
+F_n = Identity(3) + grad(d_n)
+w = inv_dt * (c0 * d + c1 * d_n + c2 * d_nm1)        # mesh velocity
+dudt = inv_dt * (c0 * u + c1 * u_n + c2 * u_nm1)     # du/dt at fixed X
+
+R = (navier_stokes.cell_residual_ale(u, p, v, q, dudt, w, F, u_n, w_n, F_n, rho, mu, inv_dt,
+                                     tetrahedron, continuity_scale) * dx
+     + navier_stokes.backflow(u, v, w, N, rho, beta) * ds(OUTLET))
+J = derivative(R, up, dup)
+J_mesh = derivative(R, d, dd)
+
+# The air's force on the interface [N] (meshed part), -sigma n da.
+traction = navier_stokes.wall_traction(u, p, mu, F, N)
+force_x = -traction[0] * ds(INTERFACE)
+force_y = -traction[1] * ds(INTERFACE)
+force_z = -traction[2] * ds(INTERFACE)
+
+forms = [R, J, J_mesh, force_x, force_y, force_z]
+mesh_jacobian = det(F)
+expressions = [(mesh_jacobian, [[0.25, 0.25, 0.25]])]
