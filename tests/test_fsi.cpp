@@ -24,7 +24,7 @@ double wiggle(const double* x, double seed)
 /// mesh displaced by `scale` times a wiggle, the air blowing outwards and
 /// down (away from the outlet's backflow switch), the pressure a wiggle;
 /// then pack them into x.
-void set_state(nct::FsiBlocks& f, nct::solid::Problem& solid, double scale, double seed,
+void set_state(nct::Model& f, nct::solid::Problem& solid, double scale, double seed,
                bool flow)
 {
   auto fill = [&](dolfinx::fem::Function<double>& u, double amplitude, double s)
@@ -82,7 +82,7 @@ JacobianCheck check_jacobian(bool shape_derivative, double eps)
       {"material.cornea.model=\"neo_hookean\"", "material.limbus.model=\"neo_hookean\"",
        std::string("fsi.shape_derivative=") + (shape_derivative ? "true" : "false")});
   nct::Model model = nct::make_model(MPI_COMM_WORLD, s);
-  nct::FsiBlocks f = nct::make_fsi(s, model);
+  auto& f = model;
   auto& solid = *model.problem;
   solid.start_dynamics({0.1, 0.8, 0.1});
   f.coupled->start();

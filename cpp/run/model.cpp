@@ -350,9 +350,14 @@ void check(MPI_Comm comm, const scene::Scene& s)
   }
 }
 
+namespace
+{
+
+/// The air domain meshed about the idealised eye (air.eye = "rigid") or
+/// in its place ("none"), in one gmsh model with the eye; only the air's
+/// cells are kept.
 AirMesh make_air_mesh(MPI_Comm comm, const scene::Scene& s)
 {
-  check(comm, s);
   const double t = MPI_Wtime();
   AirMesh a;
   const eye::Geometry g = eye_geometry(s);
@@ -418,9 +423,12 @@ void set_air_inlet(air::Problem& problem, const scene::Scene& s, const air::Doma
     });
 }
 
-FsiBlocks make_fsi(const scene::Scene& s, Model& model)
+/// The blocks of the coupled puff on the model's air mesh: the air on its
+/// moving mesh, the mesh motion, and their coupling with the solid
+/// (paired on the eye's anterior surface, before its geometry moves).
+void add_fsi(const scene::Scene& s, Model& model)
 {
-  const AirMesh& a = model.air.value();
+  const AirMesh& a = model.air_mesh.value();
   const air::Boundaries boundaries = air_boundaries(a.mesh, false);
   const double U = std::max(s.real("air.inlet_velocity"), 1.0);
   const air::Fluid fluid = air_fluid(s);
@@ -440,33 +448,49 @@ FsiBlocks make_fsi(const scene::Scene& s, Model& model)
                                      ? s.real("mesh_motion.poisson_ratio")
                                      : 0.3,
                                  s.real("mesh_motion.distance"), fluid.density * U * U};
-  FsiBlocks f;
-  f.motion = std::make_unique<mesh_motion::Problem>(a.mesh, ms, mb);
-  f.air = std::make_unique<air::Problem>(a.mesh, fluid, boundaries, U, f.motion->d);
-  set_air_inlet(*f.air, s, a.domain);
+  model.motion = std::make_unique<mesh_motion::Problem>(a.mesh, ms, mb);
+  model.air = std::make_unique<air::Problem>(a.mesh, fluid, boundaries, U, model.motion->d);
+  set_air_inlet(*model.air, s, a.domain);
   fsi::Interface interface;
   const auto& solid_groups = model.setup.mesh.groups.surfaces;
   for (const char* surface : {"anterior_cornea", "anterior_sclera"})
     interface.solid.push_back(solid_groups.at(surface));
   interface.air = boundaries.interface;
-  f.coupled = std::make_unique<fsi::Coupled>(*model.problem, *f.air, *f.motion, model.setup.mesh,
-                                             a.mesh, interface, s.boolean("fsi.shape_derivative"));
-  return f;
+  model.coupled = std::make_unique<fsi::Coupled>(*model.problem, *model.air, *model.motion,
+                                                 model.setup.mesh, a.mesh, interface,
+                                                 s.boolean("fsi.shape_derivative"));
 }
+
+} // namespace
 
 Model make_model(MPI_Comm comm, const scene::Scene& s)
 {
   check(comm, s);
   Model model;
   model.eye = s.string("mesh.source") == "eye";
+  const std::string load = s.string("puff.load");
   double t = MPI_Wtime();
+  if (load == "air")
+  {
+    // The air alone, about a rigid eye or none.
+    model.air_mesh = make_air_mesh(comm, s);
+    model.t_mesh = MPI_Wtime() - t;
+    t = MPI_Wtime();
+    const air::Fluid fluid = air_fluid(s);
+    model.air = std::make_unique<air::Problem>(
+        model.air_mesh->mesh, fluid, air_boundaries(model.air_mesh->mesh, true),
+        std::max(s.real("air.inlet_velocity"), 1.0));
+    set_air_inlet(*model.air, s, model.air_mesh->domain);
+    model.t_setup = MPI_Wtime() - t;
+    return model;
+  }
   {
     GmshSession gmsh_session;
-    if (s.string("puff.load") == "fsi")
+    if (load == "fsi")
     {
       auto [setup, air] = eye_and_air(comm, s);
       model.setup = std::move(setup);
-      model.air = std::move(air);
+      model.air_mesh = std::move(air);
     }
     else
       model.setup = model.eye ? eye_mesh(comm, s) : file_mesh(comm, s);
@@ -487,8 +511,9 @@ Model make_model(MPI_Comm comm, const scene::Scene& s)
       m.mesh,
       solid::Element{s.integer("fem.degree"), s.string("fem.quadrature") == "reduced",
                      s.string("fem.formulation") == "mixed"},
-      m.parts,
-      materials, m.fibres, m.boundaries, m.volume_origin);
+      m.parts, materials, m.fibres, m.boundaries, m.volume_origin);
+  if (load == "fsi")
+    add_fsi(s, model);
   model.t_setup = MPI_Wtime() - t;
   return model;
 }

@@ -48,43 +48,26 @@ struct AirMesh
   double t_mesh = 0; ///< wall time of meshing and distribution [s]
 };
 
-/// The scene's mesh (built or read, then distributed) and the solid on it.
+/// A scene's model: the physics blocks it switches on, on their meshes.
+/// - the solid (every scene but the air alone): its mesh, built or read;
+/// - the air (puff.load = "air": alone, on a fixed mesh about a rigid eye
+///   or none; "fsi": on a moving mesh about the eye, meshed with it);
+/// - the mesh motion and the coupling of the solid and the air ("fsi").
 struct Model
 {
   MeshSetup setup;
-  std::unique_ptr<solid::Problem> problem;
+  std::unique_ptr<solid::Problem> problem; ///< the solid, or null
   bool eye = false;   ///< the parametric eye (else an external mesh)
   double t_mesh = 0;  ///< wall time of meshing and distribution [s]
   double t_setup = 0; ///< wall time of the problem's setup [s]
-  /// puff.load = "fsi": the air about the eye, meshed with it.
-  std::optional<AirMesh> air;
+  std::optional<AirMesh> air_mesh;
+  std::unique_ptr<air::Problem> air;
+  std::unique_ptr<mesh_motion::Problem> motion;
+  std::unique_ptr<fsi::Coupled> coupled;
 };
 
 /// Build the scene's model. Throws scene::Error on bad input.
 Model make_model(MPI_Comm comm, const scene::Scene& scene);
-
-/// The blocks of the two-way coupled puff (puff.load = "fsi") on a model
-/// with an air mesh: the air on its moving mesh, the mesh motion, and the
-/// coupled system over them and the model's solid (paired on the eye's
-/// anterior surface: build before the solid's geometry moves).
-struct FsiBlocks
-{
-  std::unique_ptr<mesh_motion::Problem> motion;
-  std::unique_ptr<air::Problem> air;
-  std::unique_ptr<fsi::Coupled> coupled;
-};
-FsiBlocks make_fsi(const scene::Scene& scene, Model& model);
-
-/// The air's conditions on the air mesh (the eye, if any, a wall or the
-/// interface), its properties, and the inlet's shape, from [air].
-air::Fluid air_fluid(const scene::Scene& scene);
-air::Boundaries air_boundaries(const meshio::Tagged& mesh, bool eye_is_wall);
-void set_air_inlet(air::Problem& problem, const scene::Scene& scene, const air::Domain& domain);
-
-/// The mesh of the air alone (puff.load = "air"): the air domain meshed
-/// about the idealised eye (air.eye = "rigid") or in its place ("none"),
-/// in one gmsh model with the eye; only the air's cells are kept.
-AirMesh make_air_mesh(MPI_Comm comm, const scene::Scene& scene);
 
 /// The puff's air pressure p(r, t) [mmHg] (puff.load), or null for none.
 /// Throws scene::Error for a table that cannot be read.

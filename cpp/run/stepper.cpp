@@ -53,10 +53,10 @@ struct Saved
 
 } // namespace
 
-bool Stepper::attempt(const std::string& where, const solver::System& system,
-                      solver::NewtonReport& report)
+bool Stepper::attempt(solver::Newton& newton, const std::string& where,
+                      const solver::System& system, solver::NewtonReport& report)
 {
-  report = _newton.solve(system, _settings);
+  report = newton.solve(system, _settings);
   newton_iterations += report.iterations;
   if (!report.converged)
     _folder.log(format("  %s: Newton failed after %d iterations: %s; residuals:%s",
@@ -65,7 +65,8 @@ bool Stepper::attempt(const std::string& where, const solver::System& system,
   return report.converged;
 }
 
-void Stepper::ramp(const std::string& phase, int steps, const solver::System& system,
+void Stepper::ramp(solver::Newton& newton, const std::string& phase, int steps,
+                   const solver::System& system,
                    const std::function<void(double)>& load,
                    const std::function<void(double, const solver::NewtonReport&)>& done)
 {
@@ -81,7 +82,7 @@ void Stepper::ramp(const std::string& phase, int steps, const solver::System& sy
     if (f_before >= 0)
       saved.extrapolate(before, (target - reached) / (reached - f_before), system);
     solver::NewtonReport report;
-    if (!attempt(format("%s %.4f", phase.c_str(), target), system, report))
+    if (!attempt(newton, format("%s %.4f", phase.c_str(), target), system, report))
     {
       saved.restore(system);
       if (increment / 2 < floor * (1 - 1e-12))
@@ -105,7 +106,8 @@ void Stepper::ramp(const std::string& phase, int steps, const solver::System& sy
   }
 }
 
-void Stepper::march(const std::string& phase, double t0, double duration, double nominal,
+void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
+                    double duration, double nominal,
                     const Dynamics& problem, const solver::System& system,
                     const std::function<void(double)>& load,
                     const std::function<void(double, double, const solver::NewtonReport&)>& done)
@@ -122,12 +124,12 @@ void Stepper::march(const std::string& phase, double t0, double duration, double
     if (step != last_dt)
     {
       // The Jacobian depends on dt: a kept factorisation is stale.
-      _newton.reset();
+      newton.reset();
       last_dt = step;
     }
     load(t + problem.load_level() * step);
     solver::NewtonReport report;
-    if (!attempt(format("%s t = %.4f ms, dt = %.4g ms", phase.c_str(), t + step, step),
+    if (!attempt(newton, format("%s t = %.4f ms, dt = %.4g ms", phase.c_str(), t + step, step),
                  system, report))
     {
       saved.restore(system);

@@ -11,22 +11,23 @@
 namespace nct
 {
 
-/// Quasi-static load ramps and dynamic time marching. A failed step is
-/// retried at half the increment, down to a floor of 2^-max_cuts of the
-/// nominal one; after two successes in a row the increment doubles back
-/// towards the nominal one. Failing at the floor throws Diverged.
+/// Quasi-static load ramps and dynamic time marching, each on a Newton
+/// solver of the system's Jacobian. A failed step is retried at half the
+/// increment, down to a floor of 2^-max_cuts of the nominal one; after
+/// two successes in a row the increment doubles back towards the nominal
+/// one. Failing at the floor throws Diverged.
 class Stepper
 {
 public:
-  Stepper(solver::Newton& newton, const solver::NewtonSettings& settings, int max_cuts,
-          io::RunFolder& folder)
-      : _newton(newton), _settings(settings), _max_cuts(max_cuts), _folder(folder)
+  Stepper(const solver::NewtonSettings& settings, int max_cuts, io::RunFolder& folder)
+      : _settings(settings), _max_cuts(max_cuts), _folder(folder)
   {
   }
 
   /// Take the loads from fraction 0 (the current state) to 1 in `steps`
   /// steps: `load(f)` sets them, `done(f, report)` sees every converged step.
-  void ramp(const std::string& phase, int steps, const solver::System& system,
+  void ramp(solver::Newton& newton, const std::string& phase, int steps,
+            const solver::System& system,
             const std::function<void(double)>& load,
             const std::function<void(double, const solver::NewtonReport&)>& done);
 
@@ -42,7 +43,8 @@ public:
   /// step dt: `load(t)` sets the loads at the problem's load level within
   /// each step, `done(t, dt, report)` sees every converged step after the
   /// problem advanced.
-  void march(const std::string& phase, double t0, double duration, double dt,
+  void march(solver::Newton& newton, const std::string& phase, double t0, double duration,
+             double dt,
              const Dynamics& problem, const solver::System& system,
              const std::function<void(double)>& load,
              const std::function<void(double, double, const solver::NewtonReport&)>& done);
@@ -51,11 +53,10 @@ public:
   int cuts = 0;
 
 private:
-  /// One Newton solve; false (and x, y restored) when it failed.
-  bool attempt(const std::string& where, const solver::System& system,
+  /// One Newton solve; false when it failed.
+  bool attempt(solver::Newton& newton, const std::string& where, const solver::System& system,
                solver::NewtonReport& report);
 
-  solver::Newton& _newton;
   solver::NewtonSettings _settings;
   int _max_cuts;
   io::RunFolder& _folder;

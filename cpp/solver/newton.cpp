@@ -81,9 +81,11 @@ void set_petsc_options(const std::vector<std::pair<std::string, std::string>>& o
     PetscOptionsSetValue(nullptr, ("-" + k).c_str(), v.empty() ? nullptr : v.c_str());
 }
 
-Newton::Newton(MPI_Comm comm, Mat A) : _A(A)
+Newton::Newton(MPI_Comm comm, Mat A, const std::string& prefix) : _A(A)
 {
   KSPCreate(comm, &_ksp);
+  if (!prefix.empty())
+    KSPSetOptionsPrefix(_ksp, prefix.c_str());
   KSPSetFromOptions(_ksp);
 }
 

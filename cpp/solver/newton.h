@@ -88,8 +88,9 @@ struct System
 class Newton
 {
 public:
-  /// `A` holds the Jacobian's sparsity; the KSP reads the PETSc options.
-  Newton(MPI_Comm comm, Mat A);
+  /// `A` holds the Jacobian's sparsity; the KSP reads the PETSc options
+  /// (those under `prefix` if given).
+  Newton(MPI_Comm comm, Mat A, const std::string& prefix = "");
   ~Newton();
   Newton(const Newton&) = delete;
   Newton& operator=(const Newton&) = delete;

@@ -1,0 +1,159 @@
+#include "run/air_output.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <dolfinx/mesh/utils.h>
+
+#include "io/format.h"
+
+namespace nct
+{
+namespace
+{
+
+constexpr double mmHg = 1.333224e-4; // MPa
+using io::format;
+
+/// The nodes of the anterior cornea on the plane z = 0, by increasing x
+/// (= r): where the corneal pressure table is sampled. Collective.
+std::vector<std::array<double, 3>> corneal_section(const meshio::Tagged& m)
+{
+  const auto& mesh = *m.mesh;
+  const auto facets = m.facets->find(m.groups.surfaces.at("anterior_cornea"));
+  const auto nodes = dolfinx::mesh::entities_to_geometry(mesh, 2, facets, false);
+  const auto& x = mesh.geometry().x();
+  std::vector<double> local;
+  for (auto n : nodes)
+    if (std::abs(x[3 * n + 2]) < 1e-9)
+      local.insert(local.end(), {x[3 * n], x[3 * n + 1]});
+  int ranks = 1, count = static_cast<int>(local.size());
+  MPI_Comm_size(mesh.comm(), &ranks);
+  std::vector<int> counts(ranks), offsets(ranks + 1, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, mesh.comm());
+  for (int r = 0; r < ranks; ++r)
+    offsets[r + 1] = offsets[r] + counts[r];
+  std::vector<double> all(offsets[ranks]);
+  MPI_Allgatherv(local.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
+                 MPI_DOUBLE, mesh.comm());
+  std::vector<std::array<double, 3>> points;
+  for (std::size_t i = 0; i < all.size(); i += 2)
+    points.push_back({all[i], all[i + 1], 0.0});
+  std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end(),
+                           [](const auto& a, const auto& b) { return std::abs(a[0] - b[0]) < 1e-9; }),
+               points.end());
+  return points;
+}
+
+/// The largest |u| over the mesh [mm/ms]. Collective.
+double max_speed(const dolfinx::fem::Function<double>& u)
+{
+  const auto& map = *u.function_space()->dofmap()->index_map;
+  auto x = u.x()->array();
+  double m = 0;
+  for (std::int32_t i = 0; i < map.size_local(); ++i)
+    m = std::max(m, std::hypot(x[3 * i], x[3 * i + 1], x[3 * i + 2]));
+  MPI_Allreduce(MPI_IN_PLACE, &m, 1, MPI_DOUBLE, MPI_MAX, map.comm());
+  return m;
+}
+
+/// The centreline's points: 2-10 mm from the nozzle's exit.
+std::vector<std::array<double, 3>> centreline_points(const AirMesh& a)
+{
+  const double y_exit = a.eye.apex_y + a.domain.nozzle_distance;
+  std::vector<std::array<double, 3>> line;
+  for (double d : centreline_distances)
+    line.push_back({0, y_exit - d, 0});
+  return line;
+}
+
+} // namespace
+
+AirOutput::AirOutput(const scene::Scene& scene, io::RunFolder& folder, const AirMesh& a,
+                     air::Problem& air, bool with_eye, const mesh_motion::Problem* motion)
+    : _scene(scene), _folder(folder), _air(air), _motion(motion), _with_eye(with_eye),
+      _centreline(*a.mesh.mesh, centreline_points(a)),
+      _cornea(*a.mesh.mesh, with_eye ? corneal_section(a.mesh)
+                                     : std::vector<std::array<double, 3>>{}),
+      // The apex: the section's node on the axis (where the eye would be
+      // without it), a node of the mesh wherever the mesh was moved to.
+      _apex(*a.mesh.mesh, {with_eye ? _cornea.points().front()
+                                    : std::array<double, 3>{0, a.eye.apex_y, 0}}),
+      _fields(folder, a.mesh.mesh, air.w->function_space()),
+      _moving(motion ? std::make_unique<io::MovingFields>(folder, a.mesh.mesh) : nullptr),
+      _centreline_peak(std::size(centreline_distances), 0.0),
+      _apex_max(-std::numeric_limits<double>::infinity())
+{
+  _centreline_csv = "t_ms";
+  for (double d : centreline_distances)
+    _centreline_csv += format(",u_%gmm_m_s", d);
+  _centreline_csv += "\n";
+  _table_csv = "t_ms,r_mm,p_mmHg\n";
+}
+
+AirOutput::Sample AirOutput::sample(double time)
+{
+  _air.update_fields();
+  const auto u = _centreline.values(*_air.velocity);
+  const double p_apex = _apex.values(*_air.pressure)[0][0] / mmHg;
+  const double speed = max_speed(*_air.velocity);
+  const auto p = _with_eye ? _cornea.values(*_air.pressure) : std::vector<std::array<double, 3>>{};
+  const auto d = _with_eye && _motion ? _cornea.values(*_motion->d)
+                                      : std::vector<std::array<double, 3>>(p.size(), {0, 0, 0});
+  _centreline_csv += format("%.6g", time);
+  for (std::size_t i = 0; i < u.size(); ++i)
+  {
+    _centreline_csv += format(",%.6g", -u[i][1]);
+    _centreline_peak[i] = std::max(_centreline_peak[i], -u[i][1]);
+  }
+  _centreline_csv += "\n";
+  const auto& section = _cornea.points();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    _table_csv += format("%.6g,%.6g,%.6g\n", time,
+                         std::hypot(section[i][0] + d[i][0], section[i][2] + d[i][2]),
+                         p[i][0] / mmHg);
+  if (_with_eye && p_apex > _apex_max)
+    _apex_max = p_apex, _apex_max_time = time;
+  _speed_max = std::max(_speed_max, speed);
+  const double interval = _scene.real("air.output_interval");
+  if (_scene.boolean("output.fields") && time >= _next_output - 1e-9 * interval)
+  {
+    const double t0 = MPI_Wtime();
+    if (_moving)
+      for (const auto* f : {_air.velocity.get(), _air.pressure.get(), _motion->d.get()})
+        _moving->write(*f, *_motion->d, time);
+    else
+    {
+      _fields.write(*_air.velocity, time);
+      _fields.write(*_air.pressure, time);
+    }
+    while (_next_output <= time + 1e-9 * interval)
+      _next_output += interval;
+    t_output += MPI_Wtime() - t0;
+  }
+  return {p_apex, speed};
+}
+
+void AirOutput::write_tables() const
+{
+  _folder.write_text("centreline.csv", _centreline_csv);
+  if (_with_eye)
+    _folder.write_text("corneal_pressure.csv", _table_csv);
+}
+
+void AirOutput::summarise(nlohmann::json& summary) const
+{
+  for (std::size_t i = 0; i < _centreline_peak.size(); ++i)
+    summary["centreline_peak_m_s"][format("%gmm", centreline_distances[i])] = _centreline_peak[i];
+  summary["max_velocity_m_s"] = _speed_max;
+  if (_with_eye)
+  {
+    summary["apex_pressure_max_mmHg"] = _apex_max;
+    summary["apex_pressure_max_time_ms"] = _apex_max_time;
+    summary["corneal_pressure_table"] = "corneal_pressure.csv";
+  }
+}
+
+} // namespace nct

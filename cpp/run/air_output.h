@@ -1,0 +1,75 @@
+// The air's record of a puff: the jet's centreline, the apex pressure,
+// the pressure on the anterior cornea, the velocity and pressure fields.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "air/problem.h"
+#include "io/moving_fields.h"
+#include "io/output.h"
+#include "mesh_motion/problem.h"
+#include "meshio/model.h"
+#include "run/model.h"
+#include "scene/scene.h"
+
+namespace nct
+{
+
+/// Distances from the nozzle's exit along the axis where the centreline
+/// velocity is recorded [mm].
+constexpr double centreline_distances[] = {2, 4, 6, 8, 10};
+
+/// What the air's record writes: centreline.csv (the axial speed 2-10 mm
+/// from the nozzle's exit), with the eye corneal_pressure.csv (the air
+/// pressure on the anterior cornea's nodes on z = 0, t_ms,r_mm,p_mmHg,
+/// the table puff.load = "table" reads; on a moving mesh r is the node's
+/// current distance from the axis) and the XDMF velocity and pressure
+/// every air.output_interval (on a moving mesh, each step on its current
+/// mesh, with the mesh displacement). Points are the air mesh's reference
+/// ones (on a moving mesh they move with it: the apex stays on the cornea).
+class AirOutput
+{
+public:
+  /// Find the probes on the air mesh as it is now (the reference of a
+  /// moving one). `motion`: the mesh motion, or null for a fixed mesh.
+  AirOutput(const scene::Scene& scene, io::RunFolder& folder, const AirMesh& mesh,
+            air::Problem& air, bool with_eye, const mesh_motion::Problem* motion);
+
+  struct Sample
+  {
+    double apex_pressure = 0; ///< [mmHg]
+    double max_speed = 0;     ///< [m/s]
+  };
+  /// The state at `time` into the tables and, when due, the fields; every
+  /// value is computed (collectively) before any row is added.
+  Sample sample(double time);
+  /// centreline.csv and (with the eye) corneal_pressure.csv, whole.
+  void write_tables() const;
+  /// The centreline's peaks, the largest speed and the apex pressure's
+  /// maximum into the summary.
+  void summarise(nlohmann::json& summary) const;
+  /// The apex pressure's largest value [mmHg] and when [ms].
+  double apex_max() const { return _apex_max; }
+  double apex_max_time() const { return _apex_max_time; }
+  double t_output = 0; ///< wall time spent writing fields [s]
+
+private:
+  const scene::Scene& _scene;
+  io::RunFolder& _folder;
+  air::Problem& _air;
+  const mesh_motion::Problem* _motion;
+  bool _with_eye;
+  meshio::Probes _centreline, _cornea, _apex;
+  io::Fields _fields;             ///< on a fixed mesh
+  std::unique_ptr<io::MovingFields> _moving; ///< on a moving one
+  std::string _centreline_csv, _table_csv;
+  std::vector<double> _centreline_peak;
+  double _apex_max, _apex_max_time = 0, _speed_max = 0, _next_output = 0;
+};
+
+} // namespace nct
