@@ -42,6 +42,7 @@ u_nm1, _ = split(up_nm1)
 rho = Constant(tetrahedron)        # [g/mm^3]
 mu = Constant(tetrahedron)         # [MPa ms]
 inv_dt = Constant(tetrahedron)     # 1/dt [1/ms]; 0: steady
+inv_tau_time = Constant(tetrahedron)  # 1/T of the stabilisation [1/ms] (navier_stokes.tau)
 c0 = Constant(tetrahedron)         # BDF coefficients
 c1 = Constant(tetrahedron)
 c2 = Constant(tetrahedron)
@@ -54,7 +55,7 @@ ds = Measure("ds", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
 n = FacetNormal(tetrahedron)
 
 dudt = inv_dt * (c0 * u + c1 * u_n + c2 * u_nm1)
-R = (navier_stokes.cell_residual(u, p, v, q, dudt, w, u_n, rho, mu, inv_dt, tetrahedron,
+R = (navier_stokes.cell_residual(u, p, v, q, dudt, w, u_n, rho, mu, inv_tau_time, tetrahedron,
                                  continuity_scale) * dx
      + navier_stokes.backflow(u, v, w, n, rho, beta) * ds(OUTLET))
 J = derivative(R, up, dup)

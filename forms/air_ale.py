@@ -64,6 +64,7 @@ u_nm1, _ = split(up_nm1)
 rho = Constant(tetrahedron)        # [g/mm^3]
 mu = Constant(tetrahedron)         # [MPa ms]
 inv_dt = Constant(tetrahedron)     # 1/dt [1/ms]; 0: steady
+inv_tau_time = Constant(tetrahedron)  # 1/T of the stabilisation [1/ms] (navier_stokes.tau)
 c0 = Constant(tetrahedron)         # BDF coefficients
 c1 = Constant(tetrahedron)
 c2 = Constant(tetrahedron)
@@ -80,7 +81,7 @@ F_n = Identity(3) + grad(d_n)
 w = inv_dt * (c0 * d + c1 * d_n + c2 * d_nm1)        # mesh velocity
 dudt = inv_dt * (c0 * u + c1 * u_n + c2 * u_nm1)     # du/dt at fixed X
 
-R = (navier_stokes.cell_residual_ale(u, p, v, q, dudt, w, F, u_n, w_n, F_n, rho, mu, inv_dt,
+R = (navier_stokes.cell_residual_ale(u, p, v, q, dudt, w, F, u_n, w_n, F_n, rho, mu, inv_tau_time,
                                      tetrahedron, continuity_scale) * dx
      + navier_stokes.backflow(u, v, w, N, rho, beta) * ds(OUTLET))
 J = derivative(R, up, dup)

@@ -14,12 +14,19 @@ of Bazilevs et al. (2007) for the parameters:
     PSPG   tau_M / rho grad(q) . r_M
     LSIC   rho tau_C div(u) div(v)
 
-    tau_M = (C_t / dt^2 + a . G a + C_I nu^2 G : G)^(-1/2),   nu = mu / rho,
+    tau_M = (C_t / T^2 + a . G a + C_I nu^2 G : G)^(-1/2),   nu = mu / rho,
     tau_C = 1 / (tau_M g . g),   G = K^T K,  g_j = sum_i K_ij,  K = dxi/dx,
 
 so the stabilisation scales with the cell's size and shape in every
 direction, vanishes for the exact solution (consistent) and holds on
-coarse meshes at high Reynolds number.
+coarse meshes at high Reynolds number. Bazilevs et al. take the time
+step for T; then the discrete solution depends on the step even where
+the flow is steady (a known defect: the stabilisation belongs to the
+space discretisation, cf. V. John, J. Novo, SIAM J. Numer. Anal. 49
+(2011) 1149-1176), and on the Corvis jet's stagnation region it moved the
+apex pressure by 40 % between steps of 0.1 and 0.025 ms. T is therefore a
+fixed time scale of the air (air.stabilisation_time): it still bounds
+tau where the air is still, and the time steps converge to one solution.
 
 The residual is written either on the current mesh (`cell_residual`: the
 mesh's own coordinates are the current ones, w a given field) or on a
@@ -57,12 +64,13 @@ def stress(grad_u, p, mu):
     return -p * Identity(3) + 2.0 * mu * sym(grad_u)
 
 
-def tau(a, rho, mu, inv_dt, K):
-    """tau_M [ms] and tau_C [mm^2/ms] from the cell metric K = dxi/dx (Bazilevs et al. 2007)."""
+def tau(a, rho, mu, inv_time, K):
+    """tau_M [ms] and tau_C [mm^2/ms] from the cell metric K = dxi/dx (Bazilevs et al. 2007),
+    with inv_time = 1/T."""
     G = K.T * K
     g = as_vector([K[0, j] + K[1, j] + K[2, j] for j in range(3)])
     nu = mu / rho
-    tau_m = 1.0 / sqrt(C_t * inv_dt**2 + dot(a, G * a) + C_I * nu**2 * inner(G, G))
+    tau_m = 1.0 / sqrt(C_t * inv_time**2 + dot(a, G * a) + C_I * nu**2 * inner(G, G))
     tau_c = 1.0 / (tau_m * dot(g, g))
     return tau_m, tau_c
 
@@ -86,21 +94,22 @@ def _residual(grad_x, u, p, v, q, dudt, a, tau_m, tau_c, rho, mu, continuity_sca
     return galerkin + supg + pspg + lsic
 
 
-def cell_residual(u, p, v, q, dudt, w, u_tau, rho, mu, inv_dt, cell, continuity_scale):
+def cell_residual(u, p, v, q, dudt, w, u_tau, rho, mu, inv_time, cell, continuity_scale):
     """The stabilised residual's cell integrand on the current mesh, tested with (v, q).
 
     The parameters tau are taken at the velocity u_tau (the last time
-    step's): they vary by orders of magnitude with the velocity, and
+    step's) and the time scale 1/inv_time: they vary by orders of
+    magnitude with the velocity, and
     differentiating them would leave Newton a far harder problem for a
     change of the stabilisation alone.
     `continuity_scale` [g/(mm^2 ms)] multiplies the continuity rows so
     that they too are forces [N]: one residual norm for both equations.
     """
-    tau_m, tau_c = tau(u_tau - w, rho, mu, inv_dt, JacobianInverse(cell))
+    tau_m, tau_c = tau(u_tau - w, rho, mu, inv_time, JacobianInverse(cell))
     return _residual(grad, u, p, v, q, dudt, u - w, tau_m, tau_c, rho, mu, continuity_scale)
 
 
-def cell_residual_ale(u, p, v, q, dudt, w, F, u_tau, w_tau, F_tau, rho, mu, inv_dt, cell,
+def cell_residual_ale(u, p, v, q, dudt, w, F, u_tau, w_tau, F_tau, rho, mu, inv_time, cell,
                       continuity_scale):
     """The same residual on the reference mesh, per unit reference volume.
 
@@ -114,7 +123,7 @@ def cell_residual_ale(u, p, v, q, dudt, w, F, u_tau, w_tau, F_tau, rho, mu, inv_
     def grad_x(f):
         return dot(grad(f), F_inv)
 
-    tau_m, tau_c = tau(u_tau - w_tau, rho, mu, inv_dt, JacobianInverse(cell) * inv(F_tau))
+    tau_m, tau_c = tau(u_tau - w_tau, rho, mu, inv_time, JacobianInverse(cell) * inv(F_tau))
     return det(F) * _residual(grad_x, u, p, v, q, dudt, u - w, tau_m, tau_c, rho, mu,
                               continuity_scale)
 

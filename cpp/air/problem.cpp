@@ -62,7 +62,8 @@ Problem::Problem(const meshio::Tagged& m, const Fluid& fluid, const Boundaries& 
        {std::pair{"rho", fluid.density}, std::pair{"mu", fluid.viscosity},
         std::pair{"beta", fluid.backflow},
         std::pair{"continuity_scale", fluid.density * velocity_scale},
-        std::pair{"inv_dt", 0.0}, std::pair{"c0", 1.0}, std::pair{"c1", -1.0},
+        std::pair{"inv_dt", 0.0}, std::pair{"inv_tau_time", 1 / fluid.stabilisation_time},
+        std::pair{"c0", 1.0}, std::pair{"c1", -1.0},
         std::pair{"c2", 0.0}})
     _constants[name] = std::make_shared<fem::Constant<double>>(value);
 

@@ -28,6 +28,9 @@ struct Fluid
   double density = 1.25e-6;
   double viscosity = 1.8e-8;
   double backflow = 1.0; ///< beta of the outlet's backflow traction (>= 1/2: energy stable)
+  /// Time scale T of the stabilisation parameter tau [ms] (forms/navier_stokes.py);
+  /// infinity leaves its time term out.
+  double stabilisation_time = 0.25;
 };
 
 /// Velocity conditions by facet group. Groups in none of these lists are

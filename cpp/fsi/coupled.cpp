@@ -274,9 +274,19 @@ void Coupled::solid_state(std::vector<double>& u, std::vector<double>& v) const
 
 void Coupled::residual(la::Vector<double>& b)
 {
+  double t = MPI_Wtime();
+  auto lap = [&](const char* part)
+  {
+    const double now = MPI_Wtime();
+    _timings[part] += now - t;
+    t = now;
+  };
   _solid.residual(*_b_solid);
+  lap("solid");
   _air.residual(*_b_air);
+  lap("air");
   _motion.residual(*_b_mesh);
+  lap("mesh_motion");
   std::vector<double> u, v;
   solid_state(u, v);
   auto bs = _b_solid->mutable_array(), bf = _b_air->mutable_array(), bm = _b_mesh->mutable_array();
@@ -311,16 +321,28 @@ void Coupled::residual(la::Vector<double>& b)
   _unknowns->insert(0, bs, b);
   _unknowns->insert(1, bf, b);
   _unknowns->insert(2, bm, b);
+  lap("interface");
 }
 
 void Coupled::add_jacobian(Mat A)
 {
   const auto& U = *_unknowns;
+  double t = MPI_Wtime();
+  auto lap = [&](const char* part)
+  {
+    const double now = MPI_Wtime();
+    _timings[part] += now - t;
+    t = now;
+  };
   fem::assemble_matrix(solver::add_block(A, _solid_block), _solid.jacobian_form(), {});
+  lap("solid");
   fem::assemble_matrix(solver::add_block(A, _air_block), _air.jacobian_form(), {});
+  lap("air");
   if (_shape_derivative)
     fem::assemble_matrix(solver::add_block(A, _air_mesh_block), _air.jacobian_mesh_form(), {});
+  lap("air_shape");
   fem::assemble_matrix(solver::add_block(A, _mesh_block), _motion.jacobian_form(), {});
+  lap("mesh_motion");
   // Held rows: the diagonal of their residual d (x - 0).
   auto diagonal = [&](std::size_t f, const std::vector<std::int8_t>& held, double value)
   {
@@ -350,6 +372,7 @@ void Coupled::add_jacobian(Mat A)
           MatSetValue(A, node.mesh[k], node.solid[k], -D_m, ADD_VALUES);
       }
     }
+  lap("interface");
 }
 
 Mat Coupled::create_matrix()
@@ -378,8 +401,10 @@ solver::System Coupled::system(cavity::Closed* closed)
       closed->apply();
     MatZeroEntries(A);
     add_jacobian(A);
-    MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
+    const double t = MPI_Wtime();
+    MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY); // off-process entries move here
     MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
+    _timings["matrix_communication"] += MPI_Wtime() - t;
   };
   if (closed)
     s.border = [this, closed](std::vector<la::Vector<double>>& B,

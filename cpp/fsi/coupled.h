@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -101,6 +102,13 @@ public:
   /// or air cell, and where), or empty. Collective.
   std::string inadmissible() const;
 
+  /// Wall time [s] spent in each part of the residuals and Jacobians:
+  /// "solid", "air", "mesh_motion" (their own forms), "air_shape" (the
+  /// shape derivative), "interface" (the constraints and the moved
+  /// reaction, with their communication), "matrix_communication" (the
+  /// Jacobian's entries sent to the ranks that own their rows).
+  const std::map<std::string, double>& timings() const { return _timings; }
+
 private:
   /// Per interface node: global indices (in the stacked system) of the
   /// solid's, the air's and the mesh's dofs of each component (-1: held),
@@ -138,6 +146,7 @@ private:
   std::vector<std::int8_t> _solid_held, _air_held;
   std::unique_ptr<dolfinx::la::Vector<double>> _b_solid, _b_air, _b_mesh; ///< block residuals
   std::vector<double> _no_unknowns;
+  std::map<std::string, double> _timings;
   double _alpha_f = 0;
 };
 

@@ -386,7 +386,8 @@ AirMesh make_air_mesh(MPI_Comm comm, const scene::Scene& s)
 
 air::Fluid air_fluid(const scene::Scene& s)
 {
-  return {s.real("air.density"), s.real("air.viscosity"), s.real("air.backflow")};
+  return {s.real("air.density"), s.real("air.viscosity"), s.real("air.backflow"),
+          s.real("air.stabilisation_time")};
 }
 
 air::Boundaries air_boundaries(const meshio::Tagged& m, bool eye_is_wall)

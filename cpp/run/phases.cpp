@@ -556,6 +556,7 @@ public:
     nlohmann::json air_summary;
     out.summarise(air_summary);
     s.summary["air"] = air_summary;
+    s.summary["coupled_timings_s"] = coupled.timings();
     s.summary["air_mesh_jacobian_min"] = worst_jacobian;
     s.summary["interface_power_mismatch_max_mW"] = worst_power;
     s.summary["interface_power_max_mW"] = largest_power;

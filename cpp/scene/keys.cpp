@@ -27,7 +27,7 @@ void add_material(std::vector<Key>& keys, const std::string& part,
   keys.push_back({m + "model", K::choice, "\"" + d.model + "\"", "", -inf, inf,
                   {"hgo", "neo_hookean", "linear_elastic"},
                   "material law of the part"});
-  keys.push_back({m + "c10", K::real, d.c10, "MPa", 1e-6, 1e3, {},
+  keys.push_back({m + "c10", K::real, d.c10, "MPa", 1e-6, 1e5, {},
                   "matrix stiffness C10 (hgo, neo_hookean); shear modulus 2 C10"});
   keys.push_back({m + "k1", K::real, d.k1, "MPa", 0, 1e3, {},
                   "fibre stiffness k1 (hgo); 0 makes the part isotropic"});
@@ -264,6 +264,10 @@ std::vector<Key> declare()
                "bore radius)^2 (half the flow rate)"});
   k.push_back({"air.backflow", K::real, "1.0", "", 0, 10, {},
                "outlet backflow stabilisation beta (>= 0.5 is energy stable; 0 turns it off)"});
+  k.push_back({"air.stabilisation_time", K::real, "0.25", "ms", 1e-4, 1e3, {},
+               "time scale T of the stabilisation parameter tau_M = (4/T^2 + a.G a + ...)^-1/2: "
+               "fixed, not the time step, so that the time steps converge to one solution; it "
+               "bounds tau where the air is still (forms/navier_stokes.py)"});
   k.push_back({"air.dt", K::real, "0.25", "ms", 1e-5, 10, {},
                "time step (halved when Newton fails, down to 2^-solver.max_step_cuts of it); "
                "the coupled puff steps by dynamics.dt", "puff.load=air"});
