@@ -65,7 +65,8 @@ int main(int argc, char* argv[])
         "peak_distance_mm", "hc_time_ms", "a1_time_ms", "a2_time_ms", "a1_length_mm",
         "a2_length_mm", "a1_velocity_m_s", "a2_velocity_m_s", "iop_max_mmHg",
         "apex_pressure_hc_mmHg", "apex_pressure_max_mmHg", "rest_drift_mm",
-        "apex_pressure_max_time_ms", "centreline_peak_m_s", "max_velocity_m_s"})
+        "apex_pressure_max_time_ms", "centreline_peak_m_s", "max_velocity_m_s", "air",
+        "air_mesh_jacobian_min", "interface_power_max_mW"})
     if (a.contains(key))
       compare(a[key], b.at(key), rtol, key);
   std::cout << (mismatches ? "MISMATCH" : "agree") << ": " << argv[1] << " vs " << argv[2]

@@ -163,6 +163,16 @@ PoiseuilleError poiseuille(double h)
   return e;
 }
 
+/// Set `problem`'s velocity now and at the last step to `u0`, given at
+/// its velocity dofs.
+void start_from(nct::air::Problem& problem, const std::vector<double>& u0)
+{
+  auto up = problem.up->x()->mutable_array();
+  for (std::size_t i = 0; i < problem.velocity_dofs().size(); ++i)
+    up[problem.velocity_dofs()[i]] = u0[i];
+  std::copy(up.begin(), up.end(), problem.up_n->x()->mutable_array().begin());
+}
+
 } // namespace
 
 // Over three meshes halving h, the velocity (root mean square nodal error)
@@ -240,10 +250,7 @@ std::array<double, 2> moving_mesh(const std::function<std::array<double, 3>(cons
   };
   std::vector<double> u0;
   exact(u0);
-  auto up = problem.up->x()->mutable_array();
-  for (std::size_t i = 0; i < problem.velocity_dofs().size(); ++i)
-    up[problem.velocity_dofs()[i]] = u0[i];
-  std::copy(up.begin(), up.end(), problem.up_n->x()->mutable_array().begin());
+  start_from(problem, u0);
 
   dolfinx::la::petsc::Matrix A(problem.create_matrix(), false);
   nct::solver::set_petsc_options({});
@@ -378,10 +385,7 @@ std::array<double, 2> solved_moving_mesh(
   };
   std::vector<double> u0;
   exact(u0);
-  auto up = problem.up->x()->mutable_array();
-  for (std::size_t i = 0; i < problem.velocity_dofs().size(); ++i)
-    up[problem.velocity_dofs()[i]] = u0[i];
-  std::copy(up.begin(), up.end(), problem.up_n->x()->mutable_array().begin());
+  start_from(problem, u0);
 
   dolfinx::la::petsc::Matrix A(problem.create_matrix(), false);
   nct::solver::set_petsc_options({});

@@ -339,3 +339,36 @@ TEST(Fsi, ConvergesInTime)
     std::printf("%s on the air meshes 0.8/0.4 and 0.6/0.3 mm: %.6f and %.6f\n", key.c_str(),
                 runs[0][key].get<double>(), finer[key].get<double>());
 }
+
+// A folded air cell makes the coupled state inadmissible, with the place;
+// solver::Newton then halves the update into it (as for a folded solid
+// cell) and the stepper cuts the step if that cannot avoid it.
+TEST(Fsi, FoldedAirCellIsInadmissible)
+{
+  auto s = nct::scene::Scene::load(std::filesystem::path(NCT_SOURCE_DIR) / coarse);
+  nct::Model model = nct::make_model(MPI_COMM_WORLD, s);
+  model.problem->start_dynamics({0.1, 0.8, 0.1});
+  model.coupled->start();
+  EXPECT_EQ(model.coupled->inadmissible(), "");
+  // Push the moving region's first owned interior node 5 mm along -y:
+  // through the cells below it.
+  auto& motion = *model.motion;
+  const auto& active = motion.active();
+  std::int32_t node = -1;
+  for (auto b : active)
+    if (!motion.interface()[3 * b] && !motion.fixed()[3 * b + 1])
+    {
+      node = b;
+      break;
+    }
+  int found = node >= 0, any = 0;
+  MPI_Allreduce(&found, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  ASSERT_TRUE(any);
+  if (node >= 0)
+    motion.d->x()->mutable_array()[3 * node + 1] = -5.0;
+  motion.d->x()->scatter_fwd();
+  const std::string why = model.coupled->inadmissible();
+  std::printf("folded: %s\n", why.c_str());
+  EXPECT_NE(why.find("an air cell folded: the mesh motion's det F = -"), std::string::npos);
+  EXPECT_NE(why.find("at X = ("), std::string::npos);
+}

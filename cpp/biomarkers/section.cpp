@@ -1,5 +1,7 @@
 #include "biomarkers/section.h"
 
+#include "meshio/model.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -14,21 +16,6 @@ namespace
 {
 
 constexpr double on_plane = 1e-8; // [mm]
-
-/// Every rank's `local` values, concatenated in rank order.
-std::vector<double> gather(MPI_Comm comm, const std::vector<double>& local)
-{
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
-  int n = static_cast<int>(local.size());
-  std::vector<int> counts(ranks), offsets(ranks + 1, 0);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  std::partial_sum(counts.begin(), counts.end(), offsets.begin() + 1);
-  std::vector<double> all(offsets.back());
-  MPI_Allgatherv(local.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
-                 MPI_DOUBLE, comm);
-  return all;
-}
 
 double interpolate(const std::vector<double>& x, const std::vector<double>& f, double x0)
 {
@@ -68,7 +55,7 @@ Section::Section(const solid::Problem& problem, const std::vector<std::int32_t>&
       _nodes.push_back(d);
       local.insert(local.end(), {X[3 * d], X[3 * d + 1]});
     }
-  _X = gather(_comm, local);
+  _X = meshio::all_gather(_comm, local);
   const std::size_t n = _X.size() / 2;
   _order.resize(n);
   std::iota(_order.begin(), _order.end(), 0);
@@ -87,7 +74,7 @@ SectionState Section::sample() const
   std::vector<double> local;
   for (std::int32_t d : _nodes)
     local.insert(local.end(), {u[3 * d], u[3 * d + 1]});
-  const std::vector<double> all = gather(_comm, local);
+  const std::vector<double> all = meshio::all_gather(_comm, local);
   SectionState s;
   for (std::size_t i : _order)
   {

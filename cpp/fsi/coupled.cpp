@@ -20,23 +20,6 @@ using namespace dolfinx;
 using io::format;
 using Place = std::array<double, 3>;
 
-/// Every rank's entries, on every rank (in rank order).
-template <typename T>
-std::vector<T> gather(MPI_Comm comm, const std::vector<T>& local)
-{
-  const MPI_Datatype type = std::is_same_v<T, double> ? MPI_DOUBLE : MPI_INT64_T;
-  int ranks = 1, count = static_cast<int>(local.size());
-  MPI_Comm_size(comm, &ranks);
-  std::vector<int> counts(ranks), offsets(ranks + 1, 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 0; r < ranks; ++r)
-    offsets[r + 1] = offsets[r] + counts[r];
-  std::vector<T> all(offsets[ranks]);
-  MPI_Allgatherv(local.data(), count, type, all.data(), counts.data(), offsets.data(), type,
-                 comm);
-  return all;
-}
-
 void sum(MPI_Comm comm, std::vector<double>& v)
 {
   MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, comm);
@@ -210,10 +193,12 @@ void Coupled::pair(const meshio::Tagged& solid_mesh, const meshio::Tagged& air_m
       at[{places[3 * i], places[3 * i + 1], places[3 * i + 2]}] = i;
     return at;
   };
-  const auto all_air = gather(comm, air_places), all_solid = gather(comm, solid_places),
-             all_mesh = gather(comm, mesh_places);
-  const auto all_air_g = gather(comm, air_globals), all_solid_g = gather(comm, solid_globals),
-             all_mesh_g = gather(comm, mesh_globals);
+  using meshio::all_gather;
+  const auto all_air = all_gather(comm, air_places), all_solid = all_gather(comm, solid_places),
+             all_mesh = all_gather(comm, mesh_places);
+  const auto all_air_g = all_gather(comm, air_globals),
+             all_solid_g = all_gather(comm, solid_globals),
+             all_mesh_g = all_gather(comm, mesh_globals);
   const auto solid_at_place = index(all_solid), mesh_at_place = index(all_mesh);
   for (std::size_t i = 0; i < all_air.size() / 3; ++i)
   {

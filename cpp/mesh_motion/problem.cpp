@@ -22,21 +22,6 @@ using namespace dolfinx;
 /// Cell tag of the moving region in forms/mesh_motion.py.
 constexpr std::int32_t moving_tag = 1;
 
-/// Every rank's points, on every rank.
-std::vector<double> all_points(MPI_Comm comm, const std::vector<double>& local)
-{
-  int ranks = 1, count = static_cast<int>(local.size());
-  MPI_Comm_size(comm, &ranks);
-  std::vector<int> counts(ranks), offsets(ranks + 1, 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  for (int r = 0; r < ranks; ++r)
-    offsets[r + 1] = offsets[r] + counts[r];
-  std::vector<double> all(offsets[ranks]);
-  MPI_Allgatherv(local.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
-                 MPI_DOUBLE, comm);
-  return all;
-}
-
 /// Per point of `x` (3 coordinates each): is it within `distance` of one
 /// of `targets`? Buckets of the distance's size keep it linear.
 std::vector<bool> near(const std::vector<double>& x, const std::vector<double>& targets,
@@ -109,7 +94,7 @@ Problem::Problem(const meshio::Tagged& m, const Settings& settings, const Bounda
         on_interface.insert(on_interface.end(), X.begin() + 3 * b, X.begin() + 3 * b + 3);
     }
   // The moving region: nodes within `distance` of the interface.
-  const std::vector<bool> moves = near(X, all_points(m.mesh->comm(), on_interface),
+  const std::vector<bool> moves = near(X, meshio::all_gather(m.mesh->comm(), on_interface),
                                        settings.distance);
   for (std::int32_t b = 0; b < map.size_local(); ++b)
     if (moves[b])

@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <dolfinx/fem/Function.h>
@@ -37,6 +38,25 @@ struct Model
 
 /// Broadcast a string from rank 0 (e.g. an error met there) to every rank.
 std::string broadcast(MPI_Comm comm, std::string s);
+
+/// Every rank's `local` values (double or std::int64_t), concatenated in
+/// rank order, on every rank.
+template <typename T>
+std::vector<T> all_gather(MPI_Comm comm, const std::vector<T>& local)
+{
+  static_assert(std::is_same_v<T, double> || std::is_same_v<T, std::int64_t>);
+  const MPI_Datatype type = std::is_same_v<T, double> ? MPI_DOUBLE : MPI_INT64_T;
+  int ranks = 1, count = static_cast<int>(local.size());
+  MPI_Comm_size(comm, &ranks);
+  std::vector<int> counts(ranks), offsets(ranks + 1, 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int r = 0; r < ranks; ++r)
+    offsets[r + 1] = offsets[r] + counts[r];
+  std::vector<T> all(offsets[ranks]);
+  MPI_Allgatherv(local.data(), count, type, all.data(), counts.data(), offsets.data(), type,
+                 comm);
+  return all;
+}
 
 /// The physical groups of the current gmsh model (rank 0), on every rank.
 Groups groups_of_current_model(MPI_Comm comm);

@@ -28,15 +28,7 @@ std::vector<std::array<double, 3>> corneal_section(const meshio::Tagged& m)
   for (auto n : nodes)
     if (std::abs(x[3 * n + 2]) < 1e-9)
       local.insert(local.end(), {x[3 * n], x[3 * n + 1]});
-  int ranks = 1, count = static_cast<int>(local.size());
-  MPI_Comm_size(mesh.comm(), &ranks);
-  std::vector<int> counts(ranks), offsets(ranks + 1, 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, mesh.comm());
-  for (int r = 0; r < ranks; ++r)
-    offsets[r + 1] = offsets[r] + counts[r];
-  std::vector<double> all(offsets[ranks]);
-  MPI_Allgatherv(local.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
-                 MPI_DOUBLE, mesh.comm());
+  const std::vector<double> all = meshio::all_gather(mesh.comm(), local);
   std::vector<std::array<double, 3>> points;
   for (std::size_t i = 0; i < all.size(); i += 2)
     points.push_back({all[i], all[i + 1], 0.0});

@@ -501,7 +501,8 @@ public:
                  damping = s.scene.real("dynamics.damping");
     const int order = s.scene.integer("air.bdf_order");
     fsi::Power power;
-    double jacobian = 1, worst_jacobian = 1, worst_power = 0, largest_power = 0;
+    double jacobian = 1, worst_jacobian = 1, worst_power = 0, largest_power = 0, force = 0;
+    const int symmetry = m.problem->symmetry_factor();
     const Stepper::Dynamics dynamics{
         [&](double dt) { coupled.set_time_step(dt, rho_inf, damping, order); },
         [] { return 1.0; }, // the air balances at t_{n+1}, where its inlet is set
@@ -509,12 +510,14 @@ public:
         {
           power = coupled.power();
           jacobian = air.smallest_mesh_jacobian().first;
+          force = -symmetry * air.interface_force()[1]; // along -y, into the eye
           coupled.advance();
         }};
     auto columns = [&](const AirOutput::Sample& p)
     {
       return biomarkers::Columns{{"apex_air_pressure_mmHg", p.apex_pressure},
                                  {"max_air_velocity_m_s", p.max_speed},
+                                 {"air_force_N", force},
                                  {"air_mesh_jacobian_min", jacobian},
                                  {"interface_power_air_mW", power.air},
                                  {"interface_power_solid_mW", power.solid}};
@@ -592,9 +595,9 @@ std::vector<std::unique_ptr<Phase>> timeline(const scene::Scene& s, const Model&
   {
     biomarkers::Columns at_rest;
     if (load == "fsi")
-      at_rest = {{"apex_air_pressure_mmHg", 0.0},  {"max_air_velocity_m_s", 0.0},
-                 {"air_mesh_jacobian_min", 1.0},   {"interface_power_air_mW", 0.0},
-                 {"interface_power_solid_mW", 0.0}};
+      at_rest = {{"apex_air_pressure_mmHg", 0.0}, {"max_air_velocity_m_s", 0.0},
+                 {"air_force_N", 0.0},            {"air_mesh_jacobian_min", 1.0},
+                 {"interface_power_air_mW", 0.0}, {"interface_power_solid_mW", 0.0}};
     phases.push_back(std::make_unique<Rest>(at_rest));
   }
   if (load == "gaussian" || load == "table")

@@ -95,6 +95,13 @@ void finish(RunState& s, const std::string& status)
                             {"linear_solve", t.solve},
                             {"border", t.border},
                             {"output", s.t_output()}};
+  // Each Newton system's own (the solid's, the air's, the coupled one's).
+  for (const auto& [name, u] : s.solver_timings())
+    s.summary["timings_s"]["solvers"][name] = {{"assemble", u.assemble},
+                                               {"linear_solve", u.solve},
+                                               {"border", u.border},
+                                               {"jacobians", u.jacobians},
+                                               {"linear_solves", u.linear_solves}};
   s.folder.write_text("summary.json", s.summary.dump(2) + "\n");
 }
 

@@ -136,6 +136,14 @@ solver::Timings RunState::timings() const
   return t;
 }
 
+std::map<std::string, solver::Timings> RunState::solver_timings() const
+{
+  std::map<std::string, solver::Timings> t;
+  for (auto& [name, s] : _solvers)
+    t[name] = s.newton->timings;
+  return t;
+}
+
 solver::System RunState::solid_system() { return closed ? closed->system() : open->system(); }
 
 void RunState::set_surface_load(double t)

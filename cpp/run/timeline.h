@@ -78,8 +78,9 @@ public:
   solver::Newton& newton(const std::string& name, const std::function<Mat()>& create,
                          const std::string& prefix = "");
   solver::Newton& solid_newton();
-  /// The solvers' timings, summed.
+  /// The solvers' timings, summed, and each solver's by name.
   solver::Timings timings() const;
+  std::map<std::string, solver::Timings> solver_timings() const;
 
   // The solid's loads and cavities.
   double t0 = 0; ///< pseudo-time at the start of the current quasi-static phase
