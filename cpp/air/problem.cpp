@@ -44,6 +44,7 @@ Problem::Problem(const meshio::Tagged& m, const Fluid& fluid, const Boundaries& 
     d_nm1 = std::make_shared<fem::Function<double>>(d->function_space());
   }
 
+  _facets = m.facets;
   auto [V, velocity_map] = W->sub({0})->collapse();
   auto [Q, pressure_map] = W->sub({1})->collapse();
   auto Vp = std::make_shared<fem::FunctionSpace>(std::move(V));
@@ -245,6 +246,31 @@ std::array<double, 3> Problem::interface_force() const
     f[i] = fem::assemble_scalar(*_force.at(i));
   MPI_Allreduce(MPI_IN_PLACE, f.data(), 3, MPI_DOUBLE, MPI_SUM, up->function_space()->mesh()->comm());
   return f;
+}
+
+std::array<double, 3> Problem::force_on(const std::vector<std::int32_t>& groups) const
+{
+  la::Vector<double> b(up->x()->map(), up->x()->bs());
+  fem::assemble_vector<double>(b.mutable_array(), *_R);
+  b.scatter_rev(std::plus<double>());
+  std::vector<std::int32_t> facets;
+  for (auto g : groups)
+  {
+    auto f = _facets->find(g);
+    facets.insert(facets.end(), f.begin(), f.end());
+  }
+  std::sort(facets.begin(), facets.end());
+  facets.erase(std::unique(facets.begin(), facets.end()), facets.end());
+  auto W0 = up->function_space()->sub({0});
+  auto dofs = fem::locate_dofs_topological({*W0, *velocity->function_space()}, 2, facets);
+  const std::int32_t owned = b.map()->size_local() * b.bs();
+  std::array<double, 3> force{0, 0, 0};
+  for (std::size_t j = 0; j < dofs[0].size(); ++j)
+    if (dofs[0][j] < owned)
+      force[dofs[1][j] % 3] -= b.array()[dofs[0][j]];
+  MPI_Allreduce(MPI_IN_PLACE, force.data(), 3, MPI_DOUBLE, MPI_SUM,
+                up->function_space()->mesh()->comm());
+  return force;
 }
 
 std::pair<double, std::array<double, 3>> Problem::smallest_mesh_jacobian() const

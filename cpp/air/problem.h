@@ -116,6 +116,11 @@ public:
   /// Moving: the air's force on the interface, -integral sigma n da [N]
   /// (the meshed part; every rank gets it).
   std::array<double, 3> interface_force() const;
+  /// The air's force on the walls of these facet groups [N]: minus its
+  /// consistent reaction, the residual's velocity rows at their nodes
+  /// before any condition replaces them (each node once; every rank gets
+  /// it). At a converged state; for a body's drag and lift.
+  std::array<double, 3> force_on(const std::vector<std::int32_t>& groups) const;
   /// Moving: the smallest det F of the mesh map over the cells, and the
   /// reference centroid of its cell (every rank gets it); -inf if NaN.
   std::pair<double, std::array<double, 3>> smallest_mesh_jacobian() const;
@@ -128,6 +133,7 @@ private:
   std::shared_ptr<dolfinx::fem::Function<double>> _inlet_shape, _inlet; ///< collapsed velocity space
   std::vector<std::shared_ptr<const dolfinx::fem::DirichletBC<double>>> _bcs;
   std::vector<std::int32_t> _velocity_dofs, _pressure_dofs;
+  std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> _facets;
   double _bc_diagonal = 1;
   double _last_dt = 0; ///< the last advanced step's length (0 before any)
   double _dt = 0;

@@ -5,6 +5,7 @@
 
 #include <gmsh.h>
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <set>
 #include <map>
@@ -115,22 +116,63 @@ Groups groups_of_current_model(MPI_Comm comm)
         name = "group_" + std::to_string(tag);
       s << dim << ' ' << tag << ' ' << name << '\n';
     }
+    // The volume groups on either side of each surface group's entities.
+    for (auto [dim, tag] : groups)
+    {
+      if (dim != 2)
+        continue;
+      std::set<int> volumes;
+      std::vector<int> entities;
+      gmsh::model::getEntitiesForPhysicalGroup(2, tag, entities);
+      for (int e : entities)
+      {
+        std::vector<int> up, down;
+        gmsh::model::getAdjacencies(2, e, up, down);
+        for (int v : up)
+        {
+          std::vector<int> tags;
+          gmsh::model::getPhysicalGroupsForEntity(3, v, tags);
+          volumes.insert(tags.begin(), tags.end());
+        }
+      }
+      for (int v : volumes)
+        s << "side " << tag << ' ' << v << '\n';
+    }
   }
   std::istringstream in(broadcast(comm, s.str()));
   Groups g;
-  int dim, tag;
-  std::string name;
-  while (in >> dim >> tag >> name)
+  std::map<int, std::string> volume_names;
+  std::vector<std::pair<int, int>> sides;
+  std::string first;
+  while (in >> first)
   {
+    int tag, other;
+    if (first == "side")
+    {
+      in >> tag >> other;
+      sides.push_back({tag, other});
+      continue;
+    }
+    const int dim = std::stoi(first);
+    std::string name;
+    in >> tag >> name;
     if (dim == 3)
+    {
       g.volumes[name] = tag;
+      volume_names[tag] = name;
+    }
     else if (dim == 2)
       g.surfaces[name] = tag;
   }
+  for (auto [surface, volume] : sides)
+    for (auto& [name, tag] : g.surfaces)
+      if (tag == surface && volume_names.count(volume))
+        g.sides[name].insert(volume_names[volume]);
   return g;
 }
 
-Groups open(MPI_Comm comm, const std::filesystem::path& file)
+Groups open(MPI_Comm comm, const std::filesystem::path& file,
+           const std::map<std::string, double>& parameters)
 {
   std::string error;
   if (rank(comm) == 0)
@@ -138,7 +180,33 @@ Groups open(MPI_Comm comm, const std::filesystem::path& file)
     try
     {
       gmsh::clear();
+      gmsh::onelab::clear();
       gmsh::open(file.string());
+      if (!parameters.empty())
+      {
+        // The parameters the file declares, then the file again with the values.
+        std::vector<std::string> known;
+        gmsh::onelab::getNames(known, "Parameters/.*");
+        for (auto& [name, value] : parameters)
+          if (std::find(known.begin(), known.end(), "Parameters/" + name) == known.end())
+          {
+            std::string list;
+            for (auto& k : known)
+              list += (list.empty() ? "" : ", ") + k.substr(11);
+            throw std::invalid_argument(
+                "it declares no parameter '" + name + "' (DefineConstant[" + name
+                + " = {value, Name \"Parameters/" + name + "\"}]); it has: "
+                + (list.empty() ? "none" : list));
+          }
+        gmsh::clear();
+        for (auto& [name, value] : parameters)
+          gmsh::onelab::setNumber("Parameters/" + name, {value});
+        gmsh::open(file.string());
+      }
+    }
+    catch (const std::invalid_argument& e)
+    {
+      error = file.string() + ": " + e.what();
     }
     catch (const std::exception& e)
     {
@@ -289,6 +357,138 @@ Model keep(const Model& model, const std::vector<std::int32_t>& volume_groups)
     m.facet_groups.push_back(model.facet_groups[f]);
   }
   return m;
+}
+
+std::int32_t add_interface(Model& model, const std::vector<std::int32_t>& first,
+                           const std::string& name)
+{
+  std::int32_t tag = 1;
+  for (auto& [n, t] : model.groups.surfaces)
+    tag = std::max(tag, t + 1);
+  model.groups.surfaces[name] = tag;
+  // Each face: which sides it has (bit 0: a cell of `first`, bit 1: another).
+  std::map<std::array<std::int64_t, 3>, int> faces;
+  for (std::size_t c = 0; c < model.cell_groups.size(); ++c)
+  {
+    const bool in_first = std::find(first.begin(), first.end(), model.cell_groups[c])
+                          != first.end();
+    const std::int64_t* v = &model.cells[4 * c];
+    for (int k = 0; k < 4; ++k)
+    {
+      std::array<std::int64_t, 3> f;
+      for (int i = 0, j = 0; i < 4; ++i)
+        if (i != k)
+          f[j++] = v[i];
+      std::sort(f.begin(), f.end());
+      faces[f] |= in_first ? 1 : 2;
+    }
+  }
+  std::map<std::array<std::int64_t, 3>, std::int32_t> tagged;
+  for (std::size_t f = 0; f < model.facet_groups.size(); ++f)
+  {
+    std::array<std::int64_t, 3> key{model.facets[3 * f], model.facets[3 * f + 1],
+                                    model.facets[3 * f + 2]};
+    std::sort(key.begin(), key.end());
+    tagged[key] = model.facet_groups[f];
+  }
+  for (auto& [f, sides] : faces)
+  {
+    if (sides != 3)
+      continue;
+    if (auto it = tagged.find(f); it != tagged.end())
+    {
+      std::string group = std::to_string(it->second);
+      for (auto& [n, t] : model.groups.surfaces)
+        if (t == it->second)
+          group = n;
+      throw std::invalid_argument("surface group '" + group + "' lies on the interface "
+                                  "between the volume groups; name the interface itself "
+                                  "or leave its faces out of other groups");
+    }
+    model.facets.insert(model.facets.end(), f.begin(), f.end());
+    model.facet_groups.push_back(tag);
+  }
+  return tag;
+}
+
+int normal_axis(const dolfinx::mesh::Mesh& mesh,
+                const dolfinx::mesh::MeshTags<std::int32_t>& facets, std::int32_t group)
+{
+  std::vector<std::int32_t> list = facets.find(group);
+  auto geo = dolfinx::mesh::entities_to_geometry(mesh, 2, list, false);
+  const auto& x = mesh.geometry().x();
+  int axis = -1;
+  bool ok = true;
+  for (std::size_t f = 0; f < geo.size() / 3; ++f)
+  {
+    std::array<double, 3> a, b, n;
+    for (int j = 0; j < 3; ++j)
+    {
+      a[j] = x[3 * geo[3 * f + 1] + j] - x[3 * geo[3 * f] + j];
+      b[j] = x[3 * geo[3 * f + 2] + j] - x[3 * geo[3 * f] + j];
+    }
+    n = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+         a[0] * b[1] - a[1] * b[0]};
+    double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    int i = static_cast<int>(std::max_element(n.begin(), n.end(),
+                                              [](double p, double q)
+                                              { return std::abs(p) < std::abs(q); })
+                             - n.begin());
+    ok = ok && std::abs(n[i]) > (1 - 1e-8) * norm && (axis < 0 || axis == i);
+    axis = i;
+  }
+  int lo = axis < 0 ? 3 : axis, hi = axis, all_ok = ok;
+  MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_INT, MPI_MIN, mesh.comm());
+  MPI_Allreduce(MPI_IN_PLACE, &hi, 1, MPI_INT, MPI_MAX, mesh.comm());
+  MPI_Allreduce(MPI_IN_PLACE, &all_ok, 1, MPI_INT, MPI_MIN, mesh.comm());
+  if (!all_ok || lo != hi || hi < 0)
+    return -1;
+  return hi;
+}
+
+std::array<double, 3> outward_normal(const dolfinx::mesh::Mesh& mesh,
+                                     const dolfinx::mesh::MeshTags<std::int32_t>& facets,
+                                     const std::vector<std::int32_t>& groups)
+{
+  auto& topology = const_cast<dolfinx::mesh::Mesh&>(mesh).topology_mutable();
+  topology.create_connectivity(2, 3);
+  const auto f2c = topology.connectivity(2, 3);
+  const auto& x = mesh.geometry().x();
+  const auto& cell_nodes = mesh.geometry().dofmap();
+  const std::int32_t owned = topology.index_map(2)->size_local();
+  std::array<double, 3> sum{0, 0, 0};
+  for (auto g : groups)
+  {
+    std::vector<std::int32_t> list = facets.find(g);
+    list.erase(std::remove_if(list.begin(), list.end(), [&](auto f) { return f >= owned; }),
+               list.end());
+    auto geo = dolfinx::mesh::entities_to_geometry(mesh, 2, list, false);
+    for (std::size_t k = 0; k < list.size(); ++k)
+    {
+      std::array<double, 3> a, b, n, c{0, 0, 0}, m{0, 0, 0};
+      for (int j = 0; j < 3; ++j)
+      {
+        a[j] = x[3 * geo[3 * k + 1] + j] - x[3 * geo[3 * k] + j];
+        b[j] = x[3 * geo[3 * k + 2] + j] - x[3 * geo[3 * k] + j];
+        for (int i = 0; i < 3; ++i)
+          m[j] += x[3 * geo[3 * k + i] + j] / 3;
+      }
+      n = {(a[1] * b[2] - a[2] * b[1]) / 2, (a[2] * b[0] - a[0] * b[2]) / 2,
+           (a[0] * b[1] - a[1] * b[0]) / 2};
+      for (auto node : cell_nodes.links(f2c->links(list[k])[0]))
+        for (int j = 0; j < 3; ++j)
+          c[j] += x[3 * node + j] / 4;
+      const double side = (m[0] - c[0]) * n[0] + (m[1] - c[1]) * n[1] + (m[2] - c[2]) * n[2];
+      for (int j = 0; j < 3; ++j)
+        sum[j] += side < 0 ? -n[j] : n[j];
+    }
+  }
+  MPI_Allreduce(MPI_IN_PLACE, sum.data(), 3, MPI_DOUBLE, MPI_SUM, mesh.comm());
+  const double norm = std::hypot(sum[0], sum[1], sum[2]);
+  if (norm > 0)
+    for (auto& v : sum)
+      v /= norm;
+  return sum;
 }
 
 Tagged distribute(MPI_Comm comm, const Model& model)

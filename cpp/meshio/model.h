@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -22,6 +23,10 @@ struct Groups
 {
   std::map<std::string, int> volumes;
   std::map<std::string, int> surfaces;
+  /// Per surface group, the volume groups its geometric entities bound
+  /// (one for a boundary, two for an interface; empty where the model has
+  /// no such adjacency, e.g. a .msh without its entities).
+  std::map<std::string, std::set<std::string>> sides;
 };
 
 /// A tetrahedral mesh with its tagged boundary triangles, held on one
@@ -62,8 +67,11 @@ std::vector<T> all_gather(MPI_Comm comm, const std::vector<T>& local)
 Groups groups_of_current_model(MPI_Comm comm);
 
 /// Open a .msh or .geo file as the current gmsh model on rank 0 (a .geo is
-/// parsed, not meshed); errors name the file. Returns its groups on every rank.
-Groups open(MPI_Comm comm, const std::filesystem::path& file);
+/// parsed, not meshed); errors name the file. `parameters` set the .geo's
+/// constants declared with the ONELAB name "Parameters/<name>" (an unknown
+/// one is an error). Returns its groups on every rank.
+Groups open(MPI_Comm comm, const std::filesystem::path& file,
+            const std::map<std::string, double>& parameters = {});
 
 /// Linear tetrahedra and tagged triangles of the current gmsh model (rank
 /// 0), meshing it in 3D first if it has no volume mesh yet (with elements
@@ -73,6 +81,14 @@ Model extract(MPI_Comm comm, double size_max = 0);
 /// The part of a Model in the given volume groups: their cells, the nodes
 /// they use (renumbered) and the tagged triangles that are faces of them.
 Model keep(const Model& model, const std::vector<std::int32_t>& volume_groups);
+
+/// The faces between a cell of `first` (volume groups) and a cell of any
+/// other group, added to `model` as the surface group `name` with a new
+/// tag (on every rank; the faces on the rank that holds the model).
+/// Returns the tag. Throws std::invalid_argument naming the surface group
+/// that already holds one of those faces.
+std::int32_t add_interface(Model& model, const std::vector<std::int32_t>& first,
+                           const std::string& name);
 
 /// A distributed mesh with its physical-group tags.
 struct Tagged
@@ -91,6 +107,17 @@ Tagged distribute(MPI_Comm comm, const Model& model);
 dolfinx::mesh::MeshTags<std::int32_t>
 retag(const dolfinx::mesh::MeshTags<std::int32_t>& tags,
       const std::map<std::int32_t, std::int32_t>& map);
+
+/// The axis (0, 1, 2) that every facet of a group is normal to, or -1 if
+/// they are not all normal to one axis (collective).
+int normal_axis(const dolfinx::mesh::Mesh& mesh,
+                const dolfinx::mesh::MeshTags<std::int32_t>& facets, std::int32_t group);
+
+/// The area-weighted mean outward unit normal of the boundary facets in
+/// these groups (the mesh's exterior: each facet has one cell; collective).
+std::array<double, 3> outward_normal(const dolfinx::mesh::Mesh& mesh,
+                                     const dolfinx::mesh::MeshTags<std::int32_t>& facets,
+                                     const std::vector<std::int32_t>& groups);
 
 /// Per-point values found on some ranks, combined on all: `sums` holds,
 /// per point, 3 values and a count (0 where this rank did not find it).

@@ -63,9 +63,35 @@ std::vector<std::array<double, 3>> centreline_points(const AirMesh& a)
 
 } // namespace
 
+AirFields::AirFields(const scene::Scene& scene, io::RunFolder& folder, const meshio::Tagged& mesh,
+                     air::Problem& air, const mesh_motion::Problem* motion)
+    : _scene(scene), _air(air), _motion(motion), _fields(folder, mesh.mesh, air.w->function_space()),
+      _moving(motion ? std::make_unique<io::MovingFields>(folder, mesh.mesh) : nullptr)
+{
+}
+
+void AirFields::sample(double time)
+{
+  const double interval = _scene.real("air.output_interval");
+  if (!_scene.boolean("output.fields") || time < _next_output - 1e-9 * interval)
+    return;
+  const double t0 = MPI_Wtime();
+  if (_moving)
+    for (const auto* f : {_air.velocity.get(), _air.pressure.get(), _motion->d.get()})
+      _moving->write(*f, *_motion->d, time);
+  else
+  {
+    _fields.write(*_air.velocity, time);
+    _fields.write(*_air.pressure, time);
+  }
+  while (_next_output <= time + 1e-9 * interval)
+    _next_output += interval;
+  t_output += MPI_Wtime() - t0;
+}
+
 AirOutput::AirOutput(const scene::Scene& scene, io::RunFolder& folder, const AirMesh& a,
                      air::Problem& air, bool with_eye, const mesh_motion::Problem* motion)
-    : _scene(scene), _folder(folder), _air(air), _motion(motion), _with_eye(with_eye),
+    : _folder(folder), _air(air), _motion(motion), _with_eye(with_eye),
       _centreline(*a.mesh.mesh, centreline_points(a)),
       _cornea(*a.mesh.mesh, with_eye ? corneal_section(a.mesh)
                                      : std::vector<std::array<double, 3>>{}),
@@ -73,9 +99,7 @@ AirOutput::AirOutput(const scene::Scene& scene, io::RunFolder& folder, const Air
       // without it), a node of the mesh wherever the mesh was moved to.
       _apex(*a.mesh.mesh, {with_eye ? _cornea.points().front()
                                     : std::array<double, 3>{0, a.eye.apex_y, 0}}),
-      _fields(folder, a.mesh.mesh, air.w->function_space()),
-      _moving(motion ? std::make_unique<io::MovingFields>(folder, a.mesh.mesh) : nullptr),
-      _centreline_peak(std::size(centreline_distances), 0.0),
+      _fields(scene, folder, a.mesh, air, motion), _centreline_peak(std::size(centreline_distances), 0.0),
       _apex_max(-std::numeric_limits<double>::infinity())
 {
   _centreline_csv = "t_ms";
@@ -109,22 +133,7 @@ AirOutput::Sample AirOutput::sample(double time)
   if (_with_eye && p_apex > _apex_max)
     _apex_max = p_apex, _apex_max_time = time;
   _speed_max = std::max(_speed_max, speed);
-  const double interval = _scene.real("air.output_interval");
-  if (_scene.boolean("output.fields") && time >= _next_output - 1e-9 * interval)
-  {
-    const double t0 = MPI_Wtime();
-    if (_moving)
-      for (const auto* f : {_air.velocity.get(), _air.pressure.get(), _motion->d.get()})
-        _moving->write(*f, *_motion->d, time);
-    else
-    {
-      _fields.write(*_air.velocity, time);
-      _fields.write(*_air.pressure, time);
-    }
-    while (_next_output <= time + 1e-9 * interval)
-      _next_output += interval;
-    t_output += MPI_Wtime() - t0;
-  }
+  _fields.sample(time);
   return {p_apex, speed};
 }
 
@@ -146,6 +155,44 @@ void AirOutput::summarise(nlohmann::json& summary) const
     summary["apex_pressure_max_time_ms"] = _apex_max_time;
     summary["corneal_pressure_table"] = "corneal_pressure.csv";
   }
+}
+
+FlowOutput::FlowOutput(const scene::Scene& scene, io::RunFolder& folder,
+                       const meshio::Tagged& mesh, air::Problem& air,
+                       const mesh_motion::Problem& motion)
+    : _folder(folder), _air(air), _fields(scene, folder, mesh, air, &motion),
+      _forces_csv("t_ms,fx_N,fy_N,fz_N\n")
+{
+  for (auto& name : scene.strings("output.force_on"))
+    _groups.push_back(mesh.groups.surfaces.at(name));
+}
+
+void FlowOutput::measure()
+{
+  if (!_groups.empty())
+    _force = _air.force_on(_groups);
+}
+
+FlowOutput::Sample FlowOutput::sample(double time)
+{
+  _air.update_fields();
+  Sample s;
+  s.force = _force;
+  s.max_speed = max_speed(*_air.velocity);
+  _forces_csv += format("%.8g,%.10g,%.10g,%.10g\n", time, s.force[0], s.force[1], s.force[2]);
+  _speed_max = std::max(_speed_max, s.max_speed);
+  _last = s;
+  _fields.sample(time);
+  return s;
+}
+
+void FlowOutput::write_tables() const { _folder.write_text("forces.csv", _forces_csv); }
+
+void FlowOutput::summarise(nlohmann::json& summary) const
+{
+  summary["max_velocity_m_s"] = _speed_max;
+  if (!_groups.empty())
+    summary["force_N"] = {_last.force[0], _last.force[1], _last.force[2]};
 }
 
 } // namespace nct

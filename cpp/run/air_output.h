@@ -20,6 +20,28 @@
 namespace nct
 {
 
+/// The air's velocity and pressure fields (output.fields) every
+/// air.output_interval: on a fixed mesh as XDMF, on a moving one each
+/// write on its current mesh, with the mesh displacement.
+class AirFields
+{
+public:
+  /// `motion`: the mesh motion, or null for a fixed mesh.
+  AirFields(const scene::Scene& scene, io::RunFolder& folder, const meshio::Tagged& mesh,
+            air::Problem& air, const mesh_motion::Problem* motion);
+  /// Write the fields at `time` if they are due (update_fields done).
+  void sample(double time);
+  double t_output = 0; ///< wall time spent writing fields [s]
+
+private:
+  const scene::Scene& _scene;
+  air::Problem& _air;
+  const mesh_motion::Problem* _motion;
+  io::Fields _fields;                        ///< on a fixed mesh
+  std::unique_ptr<io::MovingFields> _moving; ///< on a moving one
+  double _next_output = 0;
+};
+
 /// Distances from the nozzle's exit along the axis where the centreline
 /// velocity is recorded [mm].
 constexpr double centreline_distances[] = {2, 4, 6, 8, 10};
@@ -56,20 +78,55 @@ public:
   /// The apex pressure's largest value [mmHg] and when [ms].
   double apex_max() const { return _apex_max; }
   double apex_max_time() const { return _apex_max_time; }
-  double t_output = 0; ///< wall time spent writing fields [s]
+  double t_output() const { return _fields.t_output; }
 
 private:
-  const scene::Scene& _scene;
   io::RunFolder& _folder;
   air::Problem& _air;
   const mesh_motion::Problem* _motion;
   bool _with_eye;
   meshio::Probes _centreline, _cornea, _apex;
-  io::Fields _fields;             ///< on a fixed mesh
-  std::unique_ptr<io::MovingFields> _moving; ///< on a moving one
+  AirFields _fields;
   std::string _centreline_csv, _table_csv;
   std::vector<double> _centreline_peak;
-  double _apex_max, _apex_max_time = 0, _speed_max = 0, _next_output = 0;
+  double _apex_max, _apex_max_time = 0, _speed_max = 0;
+};
+
+/// The air's record of a coupled run on a file mesh: its force on the
+/// groups of output.force_on, summed (minus the consistent reaction, each
+/// node once), per step into forces.csv (t_ms,fx_N,fy_N,fz_N), the
+/// largest speed, and the fields on the moving mesh.
+class FlowOutput
+{
+public:
+  FlowOutput(const scene::Scene& scene, io::RunFolder& folder, const meshio::Tagged& mesh,
+             air::Problem& air, const mesh_motion::Problem& motion);
+
+  struct Sample
+  {
+    std::array<double, 3> force{0, 0, 0}; ///< [N]
+    double max_speed = 0;                 ///< [m/s]
+  };
+  /// The force at the converged state, before the step is advanced (the
+  /// reaction needs the step's time derivatives). Collective.
+  void measure();
+  /// The state at `time` (the force as last measured) into the table and,
+  /// when due, the fields. Collective.
+  Sample sample(double time);
+  /// forces.csv, whole.
+  void write_tables() const;
+  /// The last force and the largest speed into the summary.
+  void summarise(nlohmann::json& summary) const;
+
+private:
+  io::RunFolder& _folder;
+  air::Problem& _air;
+  std::vector<std::int32_t> _groups;
+  AirFields _fields;
+  std::string _forces_csv;
+  Sample _last;
+  std::array<double, 3> _force{0, 0, 0};
+  double _speed_max = 0;
 };
 
 } // namespace nct

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <gmsh.h>
 
+#include "air/inlet.h"
 #include "eye/geometry.h"
 #include "puff/load.h"
 
@@ -145,6 +146,41 @@ air::Domain air_domain(const scene::Scene& s)
   return d;
 }
 
+/// The .geo's parameters of mesh.parameters (numbers).
+std::map<std::string, double> mesh_parameters(const scene::Scene& s)
+{
+  std::map<std::string, double> p;
+  for (auto& [name, value] : s.options("mesh.parameters"))
+  {
+    double v = 0;
+    std::size_t end = 0;
+    try
+    {
+      v = std::stod(value, &end);
+    }
+    catch (const std::exception&)
+    {
+      end = 0;
+    }
+    if (end != value.size() || !std::isfinite(v))
+      throw scene::Error(s.file().string() + ": key 'mesh.parameters." + name
+                         + "': got '" + value + "'; expected a finite number");
+    p[name] = v;
+  }
+  return p;
+}
+
+/// The volume groups of a file mesh that are fluid (material model "fluid").
+std::vector<std::string> fluid_parts(const scene::Scene& s)
+{
+  std::vector<std::string> fluids;
+  if (s.string("mesh.source") == "file")
+    for (auto& name : s.tables("material"))
+      if (s.string("material." + name + ".model") == "fluid")
+        fluids.push_back(name);
+  return fluids;
+}
+
 /// An external mesh's groups against the scene's materials and boundaries.
 void check_file_groups(const scene::Scene& s, const meshio::Groups& groups)
 {
@@ -159,9 +195,64 @@ void check_file_groups(const scene::Scene& s, const meshio::Groups& groups)
       throw scene::Error(file + ": key 'material." + name
                          + "': the mesh has no volume group '" + name + "'");
   for (const char* key : {"boundary.fixed", "boundary.symmetry", "boundary.cavity_wall",
-                          "boundary.surface_load"})
+                          "boundary.surface_load", "boundary.inlet", "boundary.outlet",
+                          "boundary.wall", "boundary.interface", "output.force_on"})
+    if (s.has(key))
+      for (auto& name : s.strings(key))
+        if (!(name == "interface" && s.has("boundary.interface")
+              && s.strings("boundary.interface").empty()))
+          surface_tag(groups, name, file, key); // "interface": found from the volumes
+  const auto fluids = fluid_parts(s);
+  if (fluids.empty())
+    return;
+  // Each boundary on the side its physics lives on (where the geometry
+  // tells the sides: a .geo, or a .msh with its entities).
+  auto is_fluid = [&](const std::string& v)
+  { return std::find(fluids.begin(), fluids.end(), v) != fluids.end(); };
+  auto side_check = [&](const char* key, bool fluid_side, const char* what)
+  {
     for (auto& name : s.strings(key))
-      surface_tag(groups, name, file, key);
+    {
+      auto it = groups.sides.find(name);
+      if (it == groups.sides.end())
+        continue;
+      for (auto& v : it->second)
+        if (is_fluid(v) != fluid_side && it->second.size() == 1)
+          throw scene::Error(file + ": key '" + key + "': surface group '" + name
+                             + "' bounds the " + (fluid_side ? "solid" : "fluid")
+                             + " volume group '" + v + "' only; " + what);
+    }
+  };
+  side_check("boundary.inlet", true, "an inlet must bound a fluid group");
+  side_check("boundary.outlet", true, "an outlet must bound a fluid group");
+  side_check("boundary.wall", true, "a wall must bound a fluid group");
+  side_check("boundary.fixed", false, "a clamp must bound a solid group");
+  for (auto& name : s.strings("boundary.interface"))
+  {
+    auto it = groups.sides.find(name);
+    if (it == groups.sides.end())
+      continue;
+    bool fluid = false, solid = false;
+    for (auto& v : it->second)
+      (is_fluid(v) ? fluid : solid) = true;
+    if (!fluid || !solid)
+      throw scene::Error(file + ": key 'boundary.interface': surface group '" + name
+                         + "' has no " + (fluid ? "solid" : "fluid")
+                         + " side; the interface lies between a fluid and a solid group");
+  }
+  double density = 0, viscosity = 0;
+  for (auto& f : fluids)
+  {
+    const double rho = s.real("material." + f + ".density"),
+                 mu = s.real("material." + f + ".viscosity");
+    if (density > 0 && (rho != density || mu != viscosity))
+      throw scene::Error(file + ": key 'material." + f + "': the fluid groups must share "
+                         "one density and viscosity (one fluid)");
+    density = rho;
+    viscosity = mu;
+  }
+  if (s.strings("boundary.inlet").empty())
+    throw scene::Error(file + ": key 'boundary.inlet': the fluid needs an inlet group");
 }
 
 /// The eye's parts, boundaries, fibres and probes on its distributed mesh.
@@ -239,10 +330,13 @@ std::pair<MeshSetup, AirMesh> eye_and_air(MPI_Comm comm, const scene::Scene& s)
           std::move(a)};
 }
 
-MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s)
+/// An external mesh: the solid's volume groups, and (`fluid` not null)
+/// the fluid's in a mesh of their own, conforming on the interface
+/// (boundary.interface, or found from the volume groups as "interface").
+MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s, std::optional<AirMesh>* fluid = nullptr)
 {
   const std::string file = s.file().string();
-  meshio::Groups groups = meshio::open(comm, s.path("mesh.file"));
+  meshio::Groups groups = meshio::open(comm, s.path("mesh.file"), mesh_parameters(s));
   check_file_groups(s, groups);
   auto materials = s.tables("material");
   solid::Boundaries b;
@@ -259,15 +353,50 @@ MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s)
     b.cavities = {walls};
   b.surface_load = tags("boundary.surface_load");
 
-  MeshSetup m{meshio::distribute(comm, meshio::extract(comm, s.real("mesh.size_max"))),
-              {}, b, {}, {}, {}, {}, {}};
+  meshio::Model whole = meshio::extract(comm, s.real("mesh.size_max"));
+  const auto fluids = fluid_parts(s);
+  std::vector<std::int32_t> fluid_tags, solid_tags;
+  for (auto& [name, tag] : groups.volumes)
+    (std::find(fluids.begin(), fluids.end(), name) != fluids.end() ? fluid_tags : solid_tags)
+        .push_back(tag);
+  if (fluid && !fluid_tags.empty())
+  {
+    if (s.strings("boundary.interface").empty())
+    {
+      std::string error;
+      try
+      {
+        meshio::add_interface(whole, fluid_tags, "interface");
+      }
+      catch (const std::invalid_argument& e)
+      {
+        error = e.what();
+      }
+      if (error = meshio::broadcast(comm, error); !error.empty())
+        throw scene::Error(file + ": " + s.string("mesh.file") + ": " + error);
+    }
+    AirMesh a;
+    for (auto group : whole.cell_groups)
+      ++(std::find(fluid_tags.begin(), fluid_tags.end(), group) != fluid_tags.end()
+             ? a.air_cells
+             : a.eye_cells);
+    MPI_Bcast(&a.air_cells, 1, MPI_INT64_T, 0, comm);
+    MPI_Bcast(&a.eye_cells, 1, MPI_INT64_T, 0, comm);
+    a.mesh = meshio::distribute(comm, meshio::keep(whole, fluid_tags));
+    whole = meshio::keep(whole, solid_tags);
+    fluid->emplace(std::move(a));
+  }
+  MeshSetup m{meshio::distribute(comm, whole), {}, b, {}, {}, {}, {}, {}};
   if (!b.cavities.empty())
     m.cavity_names = {"cavity"};
   for (auto& [name, tag] : groups.volumes)
-    m.parts[tag] = name;
+    if (std::find(solid_tags.begin(), solid_tags.end(), tag) != solid_tags.end())
+      m.parts[tag] = name;
   std::map<std::string, std::array<std::array<double, 3>, 2>> constant;
   for (auto& name : materials)
   {
+    if (std::find(fluids.begin(), fluids.end(), name) != fluids.end())
+      continue;
     std::array<std::array<double, 3>, 2> a{};
     auto dirs = s.points("material." + name + ".fibre_directions");
     for (std::size_t i = 0; i < dirs.size(); ++i)
@@ -338,9 +467,10 @@ void check(MPI_Comm comm, const scene::Scene& s)
   {
     GmshSession gmsh_session;
     meshio::Groups groups;
+    const auto parameters = mesh_parameters(s);
     try
     {
-      groups = meshio::open(comm, s.path("mesh.file"));
+      groups = meshio::open(comm, s.path("mesh.file"), parameters);
     }
     catch (const std::runtime_error& e) // every rank: open() broadcasts its error
     {
@@ -424,39 +554,147 @@ void set_air_inlet(air::Problem& problem, const scene::Scene& s, const air::Doma
     });
 }
 
-/// The blocks of the coupled puff on the model's air mesh: the air on its
-/// moving mesh, the mesh motion, and their coupling with the solid
-/// (paired on the eye's anterior surface, before its geometry moves).
-void add_fsi(const scene::Scene& s, Model& model)
+/// What the coupling needs of the fluid's side: its conditions, its
+/// properties, a typical speed [mm/ms], the solid's facet groups on the
+/// interface and the inlet's shape.
+struct FluidSide
+{
+  air::Boundaries boundaries;
+  air::Fluid fluid;
+  double velocity_scale = 1;
+  std::vector<std::int32_t> solid_interface;
+  std::function<void(air::Problem&)> set_inlet;
+};
+
+/// The idealised eye's air: the nozzle's jet onto the anterior cornea and sclera.
+FluidSide eye_fluid_side(const scene::Scene& s, const Model& model)
 {
   const AirMesh& a = model.air_mesh.value();
-  const air::Boundaries boundaries = air_boundaries(a.mesh, false);
-  const double U = std::max(s.real("air.inlet_velocity"), 1.0);
-  const air::Fluid fluid = air_fluid(s);
+  FluidSide f{air_boundaries(a.mesh, false), air_fluid(s),
+              std::max(s.real("air.inlet_velocity"), 1.0), {}, {}};
+  const auto& solid_groups = model.setup.mesh.groups.surfaces;
+  for (const char* surface : {"anterior_cornea", "anterior_sclera"})
+    f.solid_interface.push_back(solid_groups.at(surface));
+  const air::Domain domain = a.domain;
+  f.set_inlet = [&s, domain](air::Problem& p) { set_air_inlet(p, s, domain); };
+  return f;
+}
+
+/// The inlet of a file mesh's fluid (inlet.*) at unit speed.
+air::Inlet file_inlet(const scene::Scene& s, const meshio::Tagged& mesh,
+                      const std::vector<std::int32_t>& inlet)
+{
+  air::Inlet in;
+  auto unit = [&](std::array<double, 3> v, const std::string& key)
+  {
+    const double n = std::hypot(v[0], v[1], v[2]);
+    if (n == 0)
+      throw scene::Error(s.file().string() + ": key '" + key
+                         + "': a zero vector has no direction");
+    return std::array<double, 3>{v[0] / n, v[1] / n, v[2] / n};
+  };
+  if (auto d = s.points("inlet.direction"); !d.empty())
+    in.direction = unit(d.at(0), "inlet.direction");
+  else
+  {
+    auto n = meshio::outward_normal(*mesh.mesh, *mesh.facets, inlet);
+    in.direction = unit({-n[0], -n[1], -n[2]}, "boundary.inlet");
+  }
+  in.speed = 1;
+  in.ramp_time = s.real("inlet.ramp_time");
+  if (s.string("inlet.profile") == "parabolic")
+  {
+    in.center = s.points("inlet.center").at(0);
+    if (s.string("inlet.section") == "circle")
+    {
+      in.profile = air::Inlet::Profile::circle;
+      in.radius = s.real("inlet.radius");
+    }
+    else
+    {
+      in.profile = air::Inlet::Profile::rectangle;
+      const auto axes = s.points("inlet.axes");
+      if (axes.size() != 2)
+        throw scene::Error(s.file().string() + ": key 'inlet.axes': two directions across "
+                           "the rectangle, got " + std::to_string(axes.size()));
+      in.axes = {unit(axes[0], "inlet.axes"), unit(axes[1], "inlet.axes")};
+      in.half_widths = {s.real("inlet.half_width_1"), s.real("inlet.half_width_2")};
+    }
+  }
+  return in;
+}
+
+/// A file mesh's fluid: its groups' conditions (boundary.*), the fluid
+/// part's properties, the inlet (inlet.*).
+FluidSide file_fluid_side(const scene::Scene& s, const Model& model)
+{
+  const meshio::Tagged& m = model.air_mesh.value().mesh;
+  const std::string file = s.file().string();
+  auto tags = [&](const std::string& key)
+  {
+    std::vector<std::int32_t> t;
+    for (auto& name : s.strings(key))
+      t.push_back(surface_tag(m.groups, name, file, key));
+    return t;
+  };
+  FluidSide f;
+  for (auto g : tags("boundary.wall"))
+    f.boundaries.zero.push_back({g, {0, 1, 2}});
+  for (auto& name : s.strings("boundary.symmetry"))
+  {
+    const std::int32_t g = surface_tag(m.groups, name, file, "boundary.symmetry");
+    std::int64_t count = static_cast<std::int64_t>(m.facets->find(g).size());
+    MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_INT64_T, MPI_SUM, m.mesh->comm());
+    if (count == 0)
+      continue; // the solid's side only
+    const int axis = meshio::normal_axis(*m.mesh, *m.facets, g);
+    if (axis < 0)
+      throw scene::Error(file + ": key 'boundary.symmetry': group '" + name
+                         + "' is not a plane x, y or z = const in the fluid");
+    f.boundaries.zero.push_back({g, {axis}});
+  }
+  f.boundaries.inlet = tags("boundary.inlet");
+  f.boundaries.outlet = tags("boundary.outlet");
+  f.boundaries.interface = tags("boundary.interface");
+  if (f.boundaries.interface.empty())
+    f.boundaries.interface = {m.groups.surfaces.at("interface")};
+  f.solid_interface = f.boundaries.interface;
+  const std::string part = fluid_parts(s).at(0);
+  f.fluid = {s.real("material." + part + ".density"), s.real("material." + part + ".viscosity"),
+             s.real("air.backflow"), s.real("air.stabilisation_time")};
+  f.velocity_scale = s.real("inlet.velocity") > 0 ? s.real("inlet.velocity") : 1.0;
+  const air::Inlet inlet = file_inlet(s, m, f.boundaries.inlet);
+  f.set_inlet = [inlet](air::Problem& p) { p.set_inlet([inlet](const auto& x) { return inlet.velocity(x); }); };
+  return f;
+}
+
+/// The blocks of the coupled puff on the model's air mesh: the air on its
+/// moving mesh, the mesh motion, and their coupling with the solid
+/// (paired on the interface, before the solid's geometry moves).
+void add_fsi(const scene::Scene& s, Model& model, const FluidSide& f)
+{
+  const AirMesh& a = model.air_mesh.value();
+  const double U = f.velocity_scale;
   // The mesh motion: held where the air's boundary is (the symmetry
   // planes: their normal component), driven on the interface; its rows'
   // scale, the air's dynamic pressure rho U^2.
   mesh_motion::Boundaries mb;
-  for (auto& [g, components] : boundaries.zero)
+  for (auto& [g, components] : f.boundaries.zero)
     mb.fixed.push_back({g, components});
-  for (auto g : boundaries.inlet)
+  for (auto g : f.boundaries.inlet)
     mb.fixed.push_back({g, {0, 1, 2}});
-  for (auto g : boundaries.outlet)
+  for (auto g : f.boundaries.outlet)
     mb.fixed.push_back({g, {0, 1, 2}});
-  mb.interface = boundaries.interface;
+  mb.interface = f.boundaries.interface;
   const mesh_motion::Settings ms{s.string("mesh_motion.model"), s.real("mesh_motion.stiffening"),
                                  s.string("mesh_motion.model") == "elastic"
                                      ? s.real("mesh_motion.poisson_ratio")
                                      : 0.3,
-                                 s.real("mesh_motion.distance"), fluid.density * U * U};
+                                 s.real("mesh_motion.distance"), f.fluid.density * U * U};
   model.motion = std::make_unique<mesh_motion::Problem>(a.mesh, ms, mb);
-  model.air = std::make_unique<air::Problem>(a.mesh, fluid, boundaries, U, model.motion->d);
-  set_air_inlet(*model.air, s, a.domain);
-  fsi::Interface interface;
-  const auto& solid_groups = model.setup.mesh.groups.surfaces;
-  for (const char* surface : {"anterior_cornea", "anterior_sclera"})
-    interface.solid.push_back(solid_groups.at(surface));
-  interface.air = boundaries.interface;
+  model.air = std::make_unique<air::Problem>(a.mesh, f.fluid, f.boundaries, U, model.motion->d);
+  f.set_inlet(*model.air);
+  fsi::Interface interface{f.solid_interface, f.boundaries.interface};
   model.coupled = std::make_unique<fsi::Coupled>(*model.problem, *model.air, *model.motion,
                                                  model.setup.mesh, a.mesh, interface,
                                                  s.boolean("fsi.shape_derivative"));
@@ -489,9 +727,14 @@ Model make_model(MPI_Comm comm, const scene::Scene& s)
     GmshSession gmsh_session;
     if (load == "fsi")
     {
-      auto [setup, air] = eye_and_air(comm, s);
-      model.setup = std::move(setup);
-      model.air_mesh = std::move(air);
+      if (model.eye)
+      {
+        auto [setup, air] = eye_and_air(comm, s);
+        model.setup = std::move(setup);
+        model.air_mesh = std::move(air);
+      }
+      else
+        model.setup = file_mesh(comm, s, &model.air_mesh);
     }
     else
       model.setup = model.eye ? eye_mesh(comm, s) : file_mesh(comm, s);
@@ -514,7 +757,7 @@ Model make_model(MPI_Comm comm, const scene::Scene& s)
                      s.string("fem.formulation") == "mixed"},
       m.parts, materials, m.fibres, m.boundaries, m.volume_origin);
   if (load == "fsi")
-    add_fsi(s, model);
+    add_fsi(s, model, model.eye ? eye_fluid_side(s, model) : file_fluid_side(s, model));
   model.t_setup = MPI_Wtime() - t;
   return model;
 }

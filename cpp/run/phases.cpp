@@ -3,10 +3,12 @@
 // alone about a rigid eye, or the air and the eye coupled.
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <dolfinx/io/XDMFFile.h>
 #include <petscksp.h>
 
+#include "air/inlet.h"
 #include "io/format.h"
 #include "run/air_output.h"
 #include "run/run.h"
@@ -78,9 +80,17 @@ void summarise_puff(RunState& s)
   s.folder.log(text);
 }
 
-/// The inlet's speed [mm/ms] at time t: the puff's Gaussian in time.
+/// The inlet's speed [mm/ms] at time t: the puff's Gaussian in time on
+/// the eye; on a file mesh, inlet.velocity ramped over inlet.ramp_time.
 std::function<double(double)> inlet_velocity(const scene::Scene& s)
 {
+  if (s.string("mesh.source") == "file")
+  {
+    air::Inlet ramp;
+    ramp.ramp_time = s.real("inlet.ramp_time");
+    const double U = s.real("inlet.velocity");
+    return [=](double t) { return U * ramp.ramp(t); };
+  }
   const double U = s.real("air.inlet_velocity"), peak_time = s.real("puff.peak_time"),
                width_t = s.real("puff.width_t");
   return [=](double t)
@@ -488,7 +498,14 @@ public:
     auto& air = *m.air;
     s.start_dynamics();
     coupled.start();
-    AirOutput out(s.scene, s.folder, *m.air_mesh, air, true, m.motion.get());
+    // The record: the eye's (apex, corneal pressure, centreline) or a file
+    // mesh's (the force on output.force_on).
+    std::optional<AirOutput> eye_out;
+    std::optional<FlowOutput> flow_out;
+    if (m.eye)
+      eye_out.emplace(s.scene, s.folder, *m.air_mesh, air, true, m.motion.get());
+    else
+      flow_out.emplace(s.scene, s.folder, m.air_mesh->mesh, air, *m.motion);
     const auto inlet = inlet_velocity(s.scene);
     auto& unknowns = coupled.unknowns();
     air.set_inlet_scale(inlet(0));
@@ -510,23 +527,53 @@ public:
         {
           power = coupled.power();
           jacobian = air.smallest_mesh_jacobian().first;
-          force = -symmetry * air.interface_force()[1]; // along -y, into the eye
+          if (flow_out)
+            flow_out->measure();
+          else
+            force = -symmetry * air.interface_force()[1]; // along -y, into the eye
           coupled.advance();
         }};
-    auto columns = [&](const AirOutput::Sample& p)
+    // The state's columns (collective) and its log line's text.
+    std::string text;
+    auto sample = [&](double t)
     {
-      return biomarkers::Columns{{"apex_air_pressure_mmHg", p.apex_pressure},
-                                 {"max_air_velocity_m_s", p.max_speed},
-                                 {"air_force_N", force},
-                                 {"air_mesh_jacobian_min", jacobian},
-                                 {"interface_power_air_mW", power.air},
-                                 {"interface_power_solid_mW", power.solid}};
+      biomarkers::Columns c;
+      if (eye_out)
+      {
+        const auto p = eye_out->sample(t);
+        c = {{"apex_air_pressure_mmHg", p.apex_pressure},
+             {"max_air_velocity_m_s", p.max_speed},
+             {"air_force_N", force}};
+        text = format("  air apex %.3f mmHg  |u| %.1f m/s", p.apex_pressure, p.max_speed);
+      }
+      else
+      {
+        const auto p = flow_out->sample(t);
+        c = {{"max_air_velocity_m_s", p.max_speed},
+             {"air_force_x_N", p.force[0]},
+             {"air_force_y_N", p.force[1]},
+             {"air_force_z_N", p.force[2]}};
+        text = format("  air |u| %.4g m/s  force %+.6e %+.6e %+.6e N", p.max_speed, p.force[0],
+                      p.force[1], p.force[2]);
+      }
+      c.insert(c.end(), {{"air_mesh_jacobian_min", jacobian},
+                         {"interface_power_air_mW", power.air},
+                         {"interface_power_solid_mW", power.solid}});
+      text += format("  mesh J %.3f  power %.4e/%.4e mW", jacobian, power.air, power.solid);
+      return c;
+    };
+    auto write_tables = [&]
+    {
+      if (eye_out)
+        eye_out->write_tables();
+      else
+        flow_out->write_tables();
     };
     try
     {
-      const auto first = out.sample(0);
+      const auto first = sample(0);
       if (s.frames && s.frames->frames() == 0)
-        s.add_frame(0, 0, solver::NewtonReport{true, 0, {0.0}, ""}, columns(first));
+        s.add_frame(0, 0, solver::NewtonReport{true, 0, {0.0}, ""}, first);
       s.stepper.march(
           newton, "puff", 0, s.scene.real("puff.duration"), s.scene.real("dynamics.dt"), dynamics,
           system,
@@ -539,25 +586,24 @@ public:
           },
           [&](double t, double dt, const solver::NewtonReport& report)
           {
-            const auto p = out.sample(t);
+            const auto columns = sample(t);
             worst_jacobian = std::min(worst_jacobian, jacobian);
             worst_power = std::max(worst_power, std::abs(power.air - power.solid));
             largest_power = std::max({largest_power, std::abs(power.air), std::abs(power.solid)});
-            s.dynamic_step({{"phase", "puff"}}, t, dt, report, columns(p),
-                           format("  air apex %.3f mmHg  |u| %.1f m/s  mesh J %.3f  power "
-                                  "%.4e/%.4e mW",
-                                  p.apex_pressure, p.max_speed, jacobian, power.air,
-                                  power.solid));
+            s.dynamic_step({{"phase", "puff"}}, t, dt, report, columns, text);
           });
     }
     catch (...)
     {
-      out.write_tables();
+      write_tables();
       throw;
     }
-    out.write_tables();
+    write_tables();
     nlohmann::json air_summary;
-    out.summarise(air_summary);
+    if (eye_out)
+      eye_out->summarise(air_summary);
+    else
+      flow_out->summarise(air_summary);
     s.summary["air"] = air_summary;
     s.summary["coupled_timings_s"] = coupled.timings();
     s.summary["air_mesh_jacobian_min"] = worst_jacobian;

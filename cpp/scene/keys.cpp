@@ -25,8 +25,11 @@ void add_material(std::vector<Key>& keys, const std::string& part,
   const std::size_t first = keys.size();
   const std::string m = "material." + part + ".";
   keys.push_back({m + "model", K::choice, "\"" + d.model + "\"", "", -inf, inf,
-                  {"hgo", "neo_hookean", "linear_elastic"},
-                  "material law of the part"});
+                  {"hgo", "neo_hookean", "linear_elastic", "fluid"},
+                  "material law of the part: hgo, neo_hookean, linear_elastic (Saint "
+                  "Venant-Kirchhoff: linear in the Green-Lagrange strain), or fluid (file "
+                  "meshes with puff.load = \"fsi\": the part is incompressible Newtonian "
+                  "fluid, the air block's Navier-Stokes)"});
   keys.push_back({m + "c10", K::real, d.c10, "MPa", 1e-6, 1e5, {},
                   "matrix stiffness C10 (hgo, neo_hookean); shear modulus 2 C10"});
   keys.push_back({m + "k1", K::real, d.k1, "MPa", 0, 1e3, {},
@@ -40,7 +43,10 @@ void add_material(std::vector<Key>& keys, const std::string& part,
   keys.push_back({m + "poisson_ratio", K::real, d.poisson_ratio, "", 0, 0.499, {},
                   "Poisson's ratio nu (linear_elastic)"});
   keys.push_back({m + "density", K::real, "0.0011", "g/mm^3", 1e-9, 1e3, {},
-                  "mass density (dynamic phases)"});
+                  "mass density (dynamic phases; a fluid's density)"});
+  if (!fibres_from_geometry)
+    keys.push_back({m + "viscosity", K::real, "1.8e-8", "MPa ms", 1e-12, 1e3, {},
+                    "dynamic viscosity (fluid)"});
   if (!fibres_from_geometry)
     keys.push_back({m + "fibre_directions", K::points, "[]", "", -inf, inf, {},
                     "up to two constant fibre directions (hgo), normalised on "
@@ -69,7 +75,11 @@ std::vector<Key> declare()
                "scene file; its physical groups map to materials and boundaries"});
   k.push_back({"mesh.size_max", K::real, "0.0", "mm", 0, 1e3, {},
                "file: largest element when nct meshes a .geo (0: as the .geo says)"});
-  only_when(k, k.size() - 2, "mesh.source=file");
+  k.push_back({"mesh.parameters", K::options, "{}", "", -inf, inf, {},
+               "file: numbers for a .geo's constants, name = value, each declared there "
+               "as DefineConstant[name = {default, Name \"Parameters/name\"}] (e.g. its "
+               "element sizes)"});
+  only_when(k, k.size() - 3, "mesh.source=file");
   std::size_t eye_keys = k.size();
   k.push_back({"mesh.layers", K::integer, "5", "", 1, 12, {},
                "eye: elements through the wall thickness"});
@@ -152,11 +162,25 @@ std::vector<Key> declare()
   k.push_back({"boundary.fixed", K::strings, "[]", "", -inf, inf, {},
                "file: facet groups clamped (u = 0)"});
   k.push_back({"boundary.symmetry", K::strings, "[]", "", -inf, inf, {},
-               "file: facet groups on axis-aligned symmetry planes (u . n = 0)"});
+               "file: facet groups on axis-aligned symmetry planes (u . n = 0; in the "
+               "fluid: slip, and the mesh slides along them)"});
   k.push_back({"boundary.cavity_wall", K::strings, "[]", "", -inf, inf, {},
                "file: facet groups bounding the fluid cavity (IOP acts here)"});
   k.push_back({"boundary.surface_load", K::strings, "[]", "", -inf, inf, {},
                "file: facet groups loaded by press.pressure"});
+  k.push_back({"boundary.inlet", K::strings, "[]", "", -inf, inf, {},
+               "file, fsi: fluid facet groups where the velocity is inlet.* (a profile "
+               "across the section times a ramp in time)"});
+  k.push_back({"boundary.outlet", K::strings, "[]", "", -inf, inf, {},
+               "file, fsi: fluid facet groups with the natural outflow condition sigma n "
+               "= 0 and backflow stabilisation (air.backflow)"});
+  k.push_back({"boundary.wall", K::strings, "[]", "", -inf, inf, {},
+               "file, fsi: fluid facet groups of rigid no-slip walls (u = 0); the fluid's "
+               "force on them is its consistent reaction"});
+  k.push_back({"boundary.interface", K::strings, "[]", "", -inf, inf, {},
+               "file, fsi: the fluid-solid interface's facet groups; none: the faces "
+               "between fluid and solid cells, found from the volume groups (the group "
+               "'interface')"});
   k.push_back({"cavity.origin", K::points, "[[0.0, 0.0, 0.0]]", "mm", -inf, inf, {},
                "file: point on every symmetry plane and on any flat closing cap; "
                "the cavity volume is taken about it"});
@@ -201,7 +225,7 @@ std::vector<Key> declare()
   k.push_back({"press.width", K::real, "1.5", "mm", 1e-3, 1e3, {},
                "standard deviation of the gaussian profile", "press.profile=gaussian"});
   // dynamic phases: the time integrator (forms/dynamics.py)
-  k.push_back({"dynamics.dt", K::real, "0.1", "ms", 1e-4, 10, {},
+  k.push_back({"dynamics.dt", K::real, "0.1", "ms", 1e-4, 1e5, {},
                "time step of the rest and puff phases (halved when Newton fails, down to "
                "2^-solver.max_step_cuts of it)"});
   k.push_back({"dynamics.rho_inf", K::real, "0.8", "", 0, 1, {},
@@ -223,7 +247,7 @@ std::vector<Key> declare()
                "air and the eye two-way coupled in one Newton system (air.*, mesh_motion.*, "
                "fsi.*)"});
   const std::size_t puff_keys = k.size();
-  k.push_back({"puff.duration", K::real, "20.0", "ms", 1e-3, 1e3, {},
+  k.push_back({"puff.duration", K::real, "20.0", "ms", 1e-3, 1e7, {},
                "time followed from the start of the puff", "puff.load=gaussian|table|air|fsi"});
   k.push_back({"puff.peak", K::real, "65.0", "mmHg", -1e4, 1e4, {},
                "peak air pressure at the apex", "puff.load=gaussian"});
@@ -294,6 +318,39 @@ std::vector<Key> declare()
   k.push_back({"air.size_far", K::real, "5.0", "mm", 0.05, 100, {},
                "largest element size (sizes grow 0.25 mm per mm away from the core)"});
   only_when(k, air_keys, "puff.load=air|fsi");
+  // the inlet of a file mesh's fluid (puff.load = "fsi"), cpp/air/inlet
+  const std::size_t inlet_keys = k.size();
+  k.push_back({"inlet.velocity", K::real, "1.0", "m/s", 0, 1e3, {},
+               "the profile's largest speed (on its axis or centre line) once ramped"});
+  k.push_back({"inlet.direction", K::points, "[]", "", -inf, inf, {},
+               "the flow's direction at the inlet; none: the inlet's inward normal (a "
+               "plane inlet)"});
+  k.push_back({"inlet.profile", K::choice, "\"uniform\"", "", -inf, inf,
+               {"uniform", "parabolic"},
+               "uniform across the inlet, or parabolic over inlet.section: a rectangle "
+               "prod_i (1 - (s_i / a_i)^2) (s_i along inlet.axes from inlet.center, a_i "
+               "= inlet.half_width_i; inf: no variation that way, a channel or a slab) or "
+               "a circle 1 - (r / inlet.radius)^2"});
+  k.push_back({"inlet.section", K::choice, "\"rectangle\"", "", -inf, inf,
+               {"rectangle", "circle"}, "the parabolic profile's section",
+               "inlet.profile=parabolic"});
+  k.push_back({"inlet.center", K::points, "[[0.0, 0.0, 0.0]]", "mm", -inf, inf, {},
+               "the section's centre (on the inlet)", "inlet.profile=parabolic"});
+  k.push_back({"inlet.axes", K::points, "[[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]", "", -inf, inf,
+               {}, "two directions across the rectangle (normalised on use)",
+               "inlet.profile=parabolic,inlet.section=rectangle"});
+  for (const char* axis : {"1", "2"})
+    k.push_back({std::string("inlet.half_width_") + axis, K::real, "inf", "mm", 1e-9, inf, {},
+                 std::string("the rectangle's half width along the inlet.axes' vector ") + axis
+                     + " (inf: unbounded, no variation that way)",
+                 "inlet.profile=parabolic,inlet.section=rectangle"});
+  k.push_back({"inlet.radius", K::real, "1.0", "mm", 1e-9, 1e6, {},
+               "the circle's radius (about the axis through inlet.center along "
+               "inlet.direction)", "inlet.profile=parabolic,inlet.section=circle"});
+  k.push_back({"inlet.ramp_time", K::real, "0.0", "ms", 0, 1e7, {},
+               "the speed rises as (1 - cos(pi t / ramp_time)) / 2 to its value at "
+               "ramp_time, then holds (0: at once)"});
+  only_when(k, inlet_keys, "mesh.source=file,puff.load=fsi");
   // the mesh motion (puff.load = "fsi"), forms/mesh_motion.py
   const std::size_t fsi_keys = k.size();
   k.push_back({"mesh_motion.model", K::choice, "\"elastic\"", "", -inf, inf,
@@ -352,6 +409,10 @@ std::vector<Key> declare()
   k.push_back({"output.probes", K::points, "[]", "mm", -inf, inf, {},
                "reference points whose displacement is reported at each step "
                "(the eye adds its apex)"});
+  k.push_back({"output.force_on", K::strings, "[]", "", -inf, inf, {},
+               "file, fsi: facet groups (walls and the interface) whose fluid force, "
+               "summed, is reported at each step (fluid_force_N; e.g. a body's drag "
+               "and lift)", "mesh.source=file,puff.load=fsi"});
   return k;
 }
 
@@ -379,10 +440,15 @@ void check_consistency(const Scene& s)
          + std::to_string(s.real("puff.frame_rate")) + "/s; needs at least "
          + std::to_string(2e3 / s.real("puff.frame_rate")) + " ms");
 
-  if ((load == "air" || load == "fsi") && !eye)
-    fail("key 'puff.load': the air is meshed about the idealised eye's place; it needs "
-         "mesh.source = \"eye\"");
+  if (load == "air" && !eye)
+    fail("key 'puff.load': the air alone is meshed about the idealised eye's place; it "
+         "needs mesh.source = \"eye\" (a file mesh's fluid runs coupled: \"fsi\")");
 
+  if (eye)
+    for (const std::string& part : s.tables("material"))
+      if (s.string("material." + part + ".model") == "fluid")
+        fail("key 'material." + part + ".model': \"fluid\" is for a file mesh's volume "
+             "groups; the eye's air is the nozzle's (puff.load = \"air\" or \"fsi\")");
   if (!eye)
   {
     if (s.string("mesh.file").empty())
@@ -401,9 +467,28 @@ void check_consistency(const Scene& s)
     if (s.tables("material").empty())
       fail("key 'material': a file mesh needs a [material.<group>] table per "
            "volume group");
+    // A fluid part is the coupled run's fluid, and that needs one.
+    std::vector<std::string> fluids;
+    for (const std::string& part : s.tables("material"))
+      if (s.string("material." + part + ".model") == "fluid")
+        fluids.push_back(part);
+    if (load == "fsi" && fluids.empty())
+      fail("key 'puff.load': \"fsi\" on a file mesh needs a fluid volume group (a "
+           "[material.<group>] with model = \"fluid\")");
+    if (load != "fsi" && !fluids.empty())
+      fail("key 'material." + fluids[0] + ".model': a fluid part exists only in the coupled "
+           "run (puff.load = \"fsi\")");
+    if (fluids.size() == s.tables("material").size())
+      fail("key 'material': every volume group is fluid; the coupled run needs a solid");
+    if (load != "fsi")
+      for (const char* b : {"inlet", "outlet", "wall", "interface"})
+        if (!s.strings(std::string("boundary.") + b).empty())
+          fail(std::string("key 'boundary.") + b + "': a fluid boundary; it needs "
+               "puff.load = \"fsi\" and a fluid part");
     // A group has one boundary condition.
     std::map<std::string, std::string> owner;
-    for (const char* b : {"fixed", "symmetry", "cavity_wall", "surface_load"})
+    for (const char* b : {"fixed", "symmetry", "cavity_wall", "surface_load", "inlet", "outlet",
+                          "wall", "interface"})
       for (const std::string& g : s.strings(std::string("boundary.") + b))
       {
         auto [it, fresh] = owner.emplace(g, b);
@@ -415,7 +500,7 @@ void check_consistency(const Scene& s)
       fail("key 'inflate.iop' > 0 but boundary.cavity_wall names no group");
     if (s.real("press.pressure") != 0 && s.strings("boundary.surface_load").empty())
       fail("key 'press.pressure' != 0 but boundary.surface_load names no group");
-    if (s.string("puff.load") != "none" && s.strings("boundary.surface_load").empty())
+    if (load != "none" && load != "fsi" && s.strings("boundary.surface_load").empty())
       fail("key 'puff.load' is not \"none\" but boundary.surface_load names no group");
     for (const std::string& part : s.tables("material"))
       if (s.points("material." + part + ".fibre_directions").size() > 2)

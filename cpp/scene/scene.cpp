@@ -67,7 +67,7 @@ std::string kind_name(const Key& key)
   case Kind::points:
     return "an array of [x, y, z] points";
   case Kind::options:
-    return "a table of PETSc options";
+    return "a table of name = value options";
   }
   return "";
 }
@@ -165,7 +165,9 @@ void check_value(const Key& key, const std::string& name, const toml::node& n,
     if (!n.is_number())
       fail("got " + source_text(n));
     double v = number(n);
-    if (!std::isfinite(v) || v < key.min || v > key.max)
+    // Infinity only where the range is unbounded above (e.g. a width).
+    const bool infinite_ok = v > 0 && std::isinf(v) && std::isinf(key.max);
+    if (std::isnan(v) || (!std::isfinite(v) && !infinite_ok) || v < key.min || v > key.max)
       fail("got " + source_text(n) + ", out of range");
     break;
   }

@@ -72,41 +72,6 @@ constexpr std::int32_t surface_load_tag = 2;
 
 /// The coordinate axis normal to every facet of a group (all ranks agree);
 /// throws if the group is not a plane x_i = const.
-int normal_axis(const mesh::Mesh& mesh, const mesh::MeshTags<std::int32_t>& facets,
-                std::int32_t group)
-{
-  std::vector<std::int32_t> list = facets.find(group);
-  auto geo = mesh::entities_to_geometry(mesh, 2, list, false);
-  const auto& x = mesh.geometry().x();
-  int axis = -1;
-  bool ok = true;
-  for (std::size_t f = 0; f < geo.size() / 3; ++f)
-  {
-    std::array<double, 3> a, b, n;
-    for (int j = 0; j < 3; ++j)
-    {
-      a[j] = x[3 * geo[3 * f + 1] + j] - x[3 * geo[3 * f] + j];
-      b[j] = x[3 * geo[3 * f + 2] + j] - x[3 * geo[3 * f] + j];
-    }
-    n = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-         a[0] * b[1] - a[1] * b[0]};
-    double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    int i = static_cast<int>(std::max_element(n.begin(), n.end(),
-                                              [](double p, double q)
-                                              { return std::abs(p) < std::abs(q); })
-                             - n.begin());
-    ok = ok && std::abs(n[i]) > (1 - 1e-8) * norm && (axis < 0 || axis == i);
-    axis = i;
-  }
-  int lo = axis < 0 ? 3 : axis, hi = axis, all_ok = ok;
-  MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_INT, MPI_MIN, mesh.comm());
-  MPI_Allreduce(MPI_IN_PLACE, &hi, 1, MPI_INT, MPI_MAX, mesh.comm());
-  MPI_Allreduce(MPI_IN_PLACE, &all_ok, 1, MPI_INT, MPI_MIN, mesh.comm());
-  if (!all_ok || lo != hi || hi < 0)
-    return -1;
-  return hi;
-}
-
 } // namespace
 
 Problem::Problem(const meshio::Tagged& m, const Element& element,
@@ -230,7 +195,12 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
   std::set<int> axes;
   for (auto g : boundaries.symmetry)
   {
-    int axis = normal_axis(*m.mesh, *m.facets, g);
+    // A group with no facets here is on a coupled fluid's side only.
+    std::int64_t count = static_cast<std::int64_t>(facets_of(g).size());
+    MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_INT64_T, MPI_SUM, m.mesh->comm());
+    if (count == 0)
+      continue;
+    int axis = meshio::normal_axis(*m.mesh, *m.facets, g);
     if (axis < 0)
     {
       std::string name = std::to_string(g);
