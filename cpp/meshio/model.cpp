@@ -90,6 +90,17 @@ std::vector<bool> non_manifold_vertices(const std::vector<std::int64_t>& cells,
   return flagged;
 }
 
+/// The face of tetrahedron `v` (4 node indices) opposite its node k, sorted.
+std::array<std::int64_t, 3> face(const std::int64_t* v, int k)
+{
+  std::array<std::int64_t, 3> f;
+  for (int i = 0, j = 0; i < 4; ++i)
+    if (i != k)
+      f[j++] = v[i];
+  std::sort(f.begin(), f.end());
+  return f;
+}
+
 } // namespace
 
 std::string broadcast(MPI_Comm comm, std::string s)
@@ -330,12 +341,7 @@ Model keep(const Model& model, const std::vector<std::int32_t>& volume_groups)
     const std::int64_t* v = &model.cells[4 * c];
     for (int k = 0; k < 4; ++k)
     {
-      std::array<std::int64_t, 3> f;
-      for (int i = 0, j = 0; i < 4; ++i)
-        if (i != k)
-          f[j++] = v[i];
-      std::sort(f.begin(), f.end());
-      faces.insert(f);
+      faces.insert(face(v, k));
       if (index[v[k]] < 0)
       {
         index[v[k]] = static_cast<std::int64_t>(m.x.size() / 3);
@@ -374,14 +380,7 @@ std::int32_t add_interface(Model& model, const std::vector<std::int32_t>& first,
                           != first.end();
     const std::int64_t* v = &model.cells[4 * c];
     for (int k = 0; k < 4; ++k)
-    {
-      std::array<std::int64_t, 3> f;
-      for (int i = 0, j = 0; i < 4; ++i)
-        if (i != k)
-          f[j++] = v[i];
-      std::sort(f.begin(), f.end());
-      faces[f] |= in_first ? 1 : 2;
-    }
+      faces[face(v, k)] |= in_first ? 1 : 2;
   }
   std::map<std::array<std::int64_t, 3>, std::int32_t> tagged;
   for (std::size_t f = 0; f < model.facet_groups.size(); ++f)
@@ -391,6 +390,7 @@ std::int32_t add_interface(Model& model, const std::vector<std::int32_t>& first,
     std::sort(key.begin(), key.end());
     tagged[key] = model.facet_groups[f];
   }
+  std::size_t count = 0;
   for (auto& [f, sides] : faces)
   {
     if (sides != 3)
@@ -407,7 +407,12 @@ std::int32_t add_interface(Model& model, const std::vector<std::int32_t>& first,
     }
     model.facets.insert(model.facets.end(), f.begin(), f.end());
     model.facet_groups.push_back(tag);
+    ++count;
   }
+  if (count == 0 && !model.cells.empty())
+    throw std::invalid_argument("no face lies between the fluid's volume groups and the "
+                                "others: the fluid and the solid must share faces (a "
+                                "conforming mesh)");
   return tag;
 }
 

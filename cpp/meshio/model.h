@@ -86,7 +86,7 @@ Model keep(const Model& model, const std::vector<std::int32_t>& volume_groups);
 /// other group, added to `model` as the surface group `name` with a new
 /// tag (on every rank; the faces on the rank that holds the model).
 /// Returns the tag. Throws std::invalid_argument naming the surface group
-/// that already holds one of those faces.
+/// that already holds one of those faces, or when there are none.
 std::int32_t add_interface(Model& model, const std::vector<std::int32_t>& first,
                            const std::string& name);
 

@@ -159,8 +159,8 @@ void AirOutput::summarise(nlohmann::json& summary) const
 
 FlowOutput::FlowOutput(const scene::Scene& scene, io::RunFolder& folder,
                        const meshio::Tagged& mesh, air::Problem& air,
-                       const mesh_motion::Problem& motion)
-    : _folder(folder), _air(air), _fields(scene, folder, mesh, air, &motion),
+                       const mesh_motion::Problem* motion)
+    : _folder(folder), _air(air), _fields(scene, folder, mesh, air, motion),
       _forces_csv("t_ms,fx_N,fy_N,fz_N\n")
 {
   for (auto& name : scene.strings("output.force_on"))

@@ -92,15 +92,16 @@ private:
   double _apex_max, _apex_max_time = 0, _speed_max = 0;
 };
 
-/// The air's record of a coupled run on a file mesh: its force on the
-/// groups of output.force_on, summed (minus the consistent reaction, each
-/// node once), per step into forces.csv (t_ms,fx_N,fy_N,fz_N), the
-/// largest speed, and the fields on the moving mesh.
+/// The air's record of a run on a file mesh: its force on the groups of
+/// output.force_on, summed (minus the consistent reaction, each node
+/// once), per step into forces.csv (t_ms,fx_N,fy_N,fz_N), the largest
+/// speed, and the fields (on the moving mesh of a coupled run).
 class FlowOutput
 {
 public:
+  /// `motion`: the mesh motion, or null for a fixed mesh.
   FlowOutput(const scene::Scene& scene, io::RunFolder& folder, const meshio::Tagged& mesh,
-             air::Problem& air, const mesh_motion::Problem& motion);
+             air::Problem& air, const mesh_motion::Problem* motion);
 
   struct Sample
   {

@@ -361,7 +361,7 @@ MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s, std::optional<AirMesh>
         .push_back(tag);
   if (fluid && !fluid_tags.empty())
   {
-    if (s.strings("boundary.interface").empty())
+    if (s.strings("boundary.interface").empty() && !solid_tags.empty())
     {
       std::string error;
       try
@@ -385,6 +385,8 @@ MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s, std::optional<AirMesh>
     a.mesh = meshio::distribute(comm, meshio::keep(whole, fluid_tags));
     whole = meshio::keep(whole, solid_tags);
     fluid->emplace(std::move(a));
+    if (solid_tags.empty())
+      return {}; // the fluid alone
   }
   MeshSetup m{meshio::distribute(comm, whole), {}, b, {}, {}, {}, {}, {}};
   if (!b.cavities.empty())
@@ -656,8 +658,8 @@ FluidSide file_fluid_side(const scene::Scene& s, const Model& model)
   f.boundaries.inlet = tags("boundary.inlet");
   f.boundaries.outlet = tags("boundary.outlet");
   f.boundaries.interface = tags("boundary.interface");
-  if (f.boundaries.interface.empty())
-    f.boundaries.interface = {m.groups.surfaces.at("interface")};
+  if (f.boundaries.interface.empty() && m.groups.surfaces.count("interface"))
+    f.boundaries.interface = {m.groups.surfaces.at("interface")}; // found from the volumes
   f.solid_interface = f.boundaries.interface;
   const std::string part = fluid_parts(s).at(0);
   f.fluid = {s.real("material." + part + ".density"), s.real("material." + part + ".viscosity"),
@@ -709,6 +711,22 @@ Model make_model(MPI_Comm comm, const scene::Scene& s)
   model.eye = s.string("mesh.source") == "eye";
   const std::string load = s.string("puff.load");
   double t = MPI_Wtime();
+  if (load == "air" && !model.eye)
+  {
+    // A file mesh's fluid alone (every volume group fluid) on its fixed mesh.
+    {
+      GmshSession gmsh_session;
+      file_mesh(comm, s, &model.air_mesh);
+    }
+    model.t_mesh = MPI_Wtime() - t;
+    t = MPI_Wtime();
+    const FluidSide f = file_fluid_side(s, model);
+    model.air = std::make_unique<air::Problem>(model.air_mesh->mesh, f.fluid, f.boundaries,
+                                               f.velocity_scale);
+    f.set_inlet(*model.air);
+    model.t_setup = MPI_Wtime() - t;
+    return model;
+  }
   if (load == "air")
   {
     // The air alone, about a rigid eye or none.

@@ -370,19 +370,48 @@ public:
 };
 
 /// Phase 6, the air alone (puff.load = "air"): the Corvis jet on a rigid
-/// eye or a free jet; no solid phase runs.
+/// eye or a free jet, or a file mesh's fluid; no solid phase runs.
 class AirPuff : public Phase
 {
 public:
   void run(RunState& s) override
   {
     auto& air = *s.model.air;
-    const bool with_eye = s.scene.string("air.eye") == "rigid";
+    const bool file = !s.model.eye;
+    const bool with_eye = !file && s.scene.string("air.eye") == "rigid";
     if (with_eye)
       s.folder.log("air: the eye is a rigid wall; the solid phases (zero pressure, inflation, "
                    "rest) are not run");
-    AirOutput out(s.scene, s.folder, *s.model.air_mesh, air, with_eye, nullptr);
-    _out = &out;
+    std::optional<AirOutput> eye_out;
+    std::optional<FlowOutput> flow_out;
+    if (file)
+      flow_out.emplace(s.scene, s.folder, s.model.air_mesh->mesh, air, nullptr);
+    else
+      eye_out.emplace(s.scene, s.folder, *s.model.air_mesh, air, with_eye, nullptr);
+    _eye_out = eye_out ? &*eye_out : nullptr;
+    _flow_out = flow_out ? &*flow_out : nullptr;
+    // The sampled state: the apex pressure (the eye) or the force on
+    // output.force_on (a file mesh), and the largest speed.
+    struct Sample
+    {
+      double apex_pressure = 0, max_speed = 0;
+      std::array<double, 3> force{0, 0, 0};
+    };
+    auto sample = [&](double t)
+    {
+      Sample p;
+      if (eye_out)
+      {
+        const auto e = eye_out->sample(t);
+        p.apex_pressure = e.apex_pressure, p.max_speed = e.max_speed;
+      }
+      else
+      {
+        const auto f = flow_out->sample(t);
+        p.force = f.force, p.max_speed = f.max_speed;
+      }
+      return p;
+    };
     auto& newton = s.newton("air", [&] { return air.create_matrix(); });
     set_fieldsplit(newton.ksp(), air);
     // Full Newton steps: the energy line search has no energy to follow here.
@@ -395,18 +424,24 @@ public:
                                 [&](Mat J) { air.jacobian(J); }, nullptr, nullptr, nullptr};
     const auto inlet = inlet_velocity(s.scene);
     std::string steps_csv = "t_ms,dt_ms,newton_iterations,residual_N,inlet_velocity_m_s,"
-                            "apex_pressure_mmHg,max_velocity_m_s,wall_s\n";
+                            "apex_pressure_mmHg,max_velocity_m_s,fx_N,fy_N,fz_N,wall_s\n";
     int steps = 0;
     try
     {
       // From rest, the inlet at its t = 0 value.
       air.set_inlet_scale(inlet(0));
-      const auto first = out.sample(0);
-      steps_csv += format("0,0,0,0,%.6g,%.6g,%.6g,0\n", inlet(0), first.apex_pressure,
+      const auto first = sample(0);
+      steps_csv += format("0,0,0,0,%.6g,%.6g,%.6g,0,0,0,0\n", inlet(0), first.apex_pressure,
                           first.max_speed);
       const int order = s.scene.integer("air.bdf_order");
       const Stepper::Dynamics dynamics{[&](double dt) { air.set_time_step(dt, order); },
-                                       [] { return 1.0; }, [&] { air.advance(); }};
+                                       [] { return 1.0; },
+                                       [&]
+                                       {
+                                         if (flow_out)
+                                           flow_out->measure();
+                                         air.advance();
+                                       }};
       double t_step = MPI_Wtime();
       stepper.march(newton, "air", 0, s.scene.real("puff.duration"), s.scene.real("air.dt"),
                     dynamics, system, [&](double time) { air.set_inlet_scale(inlet(time)); },
@@ -415,16 +450,22 @@ public:
                       const double wall = MPI_Wtime() - t_step;
                       t_step = MPI_Wtime();
                       ++steps;
-                      const auto p = out.sample(time);
-                      steps_csv += format("%.6g,%.6g,%d,%.6e,%.6g,%.6g,%.6g,%.3f\n", time, dt,
-                                          report.iterations, report.residuals.back(),
-                                          inlet(time), p.apex_pressure, p.max_speed, wall);
+                      const auto p = sample(time);
+                      steps_csv += format("%.6g,%.6g,%d,%.6e,%.6g,%.6g,%.6g,%.10g,%.10g,%.10g,"
+                                          "%.3f\n",
+                                          time, dt, report.iterations, report.residuals.back(),
+                                          inlet(time), p.apex_pressure, p.max_speed, p.force[0],
+                                          p.force[1], p.force[2], wall);
+                      const std::string what
+                          = file ? format("force %+.6e %+.6e %+.6e N", p.force[0], p.force[1],
+                                          p.force[2])
+                                 : format("apex %7.3f mmHg", p.apex_pressure);
                       s.folder.log(format("air t = %7.3f ms  dt %.3g  inlet %6.2f m/s  Newton "
-                                          "%2d  residual %.2e N  apex %7.3f mmHg  max |u| "
-                                          "%6.2f m/s  wall %.2f s",
+                                          "%2d  residual %.2e N  %s  max |u| %6.2f m/s  wall "
+                                          "%.2f s",
                                           time, dt, inlet(time), report.iterations,
-                                          report.residuals.back(), p.apex_pressure,
-                                          p.max_speed, wall));
+                                          report.residuals.back(), what.c_str(), p.max_speed,
+                                          wall));
                     });
     }
     catch (...)
@@ -433,9 +474,17 @@ public:
       throw;
     }
     finish(s, stepper, steps, steps_csv);
-    out.summarise(s.summary);
     s.folder.log(format("done: %d steps, %d Newton iterations, %d step cuts", steps,
                         stepper.newton_iterations, stepper.cuts));
+    if (file)
+    {
+      nlohmann::json air_summary;
+      flow_out->summarise(air_summary);
+      s.summary["air"] = air_summary;
+      return;
+    }
+    eye_out->summarise(s.summary);
+    const AirOutput& out = *eye_out;
     if (with_eye)
       s.folder.log(format("apex pressure: max %.3f mmHg at %.3f ms (stagnation 0.5 rho U^2 = "
                           "%.3f mmHg)",
@@ -455,7 +504,10 @@ private:
     s.stepper.newton_iterations += stepper.newton_iterations;
     s.stepper.cuts += stepper.cuts;
     s.folder.write_text("steps.csv", steps_csv);
-    _out->write_tables();
+    if (_eye_out)
+      _eye_out->write_tables();
+    else
+      _flow_out->write_tables();
   }
 
   /// Velocity and pressure blocks for a fieldsplit preconditioner, as
@@ -482,7 +534,8 @@ private:
     }
   }
 
-  AirOutput* _out = nullptr;
+  AirOutput* _eye_out = nullptr;
+  FlowOutput* _flow_out = nullptr;
 };
 
 /// Phase 6, coupled (puff.load = "fsi"): the air and the eye in one
@@ -505,7 +558,7 @@ public:
     if (m.eye)
       eye_out.emplace(s.scene, s.folder, *m.air_mesh, air, true, m.motion.get());
     else
-      flow_out.emplace(s.scene, s.folder, m.air_mesh->mesh, air, *m.motion);
+      flow_out.emplace(s.scene, s.folder, m.air_mesh->mesh, air, m.motion.get());
     const auto inlet = inlet_velocity(s.scene);
     auto& unknowns = coupled.unknowns();
     air.set_inlet_scale(inlet(0));

@@ -33,10 +33,13 @@ void describe(RunState& s)
   {
     const auto& a = *m.air_mesh;
     const std::int64_t cells = a.mesh.mesh->topology().index_map(3)->size_global();
-    const double U = s.scene.real("air.inlet_velocity"), rho = s.scene.real("air.density");
     s.summary[m.problem ? "air_cells" : "cells"] = cells;
     s.summary[m.problem ? "air_dofs" : "dofs"] = m.air->dofs();
-    s.summary["stagnation_pressure_mmHg"] = 0.5 * rho * U * U / mmHg;
+    if (m.eye)
+    {
+      const double U = s.scene.real("air.inlet_velocity"), rho = s.scene.real("air.density");
+      s.summary["stagnation_pressure_mmHg"] = 0.5 * rho * U * U / mmHg;
+    }
     std::string motion;
     if (m.motion)
     {
@@ -48,7 +51,7 @@ void describe(RunState& s)
                       (long long)m.coupled->unknowns().size_global(),
                       m.coupled->interface_nodes());
     }
-    else
+    else if (m.eye)
       s.summary["air_eye"] = s.scene.string("air.eye");
     s.folder.log(format("air mesh: %lld tetrahedra (%lld air, %lld eye in the gmsh model), "
                         "P1/P1, %lld dofs%s",

@@ -274,7 +274,8 @@ std::vector<Key> declare()
   const std::size_t air_keys = k.size();
   k.push_back({"air.eye", K::choice, "\"rigid\"", "", -inf, inf, {"rigid", "none"},
                "rigid = the idealised eye (geometry.*, mesh.*) is a fixed no-slip wall in the "
-               "air; none = the free jet, the eye's place left to the air", "puff.load=air"});
+               "air; none = the free jet, the eye's place left to the air",
+               "mesh.source=eye,puff.load=air"});
   k.push_back({"air.density", K::real, "1.25e-6", "g/mm^3", 1e-9, 1e-2, {},
                "air density"});
   k.push_back({"air.viscosity", K::real, "1.8e-8", "MPa ms", 1e-12, 1, {},
@@ -286,19 +287,23 @@ std::vector<Key> declare()
                {"plug", "parabolic"},
                "shape across the nozzle's bore: plug = uniform, parabolic = 1 - (r / "
                "bore radius)^2 (half the flow rate)"});
+  only_when(k, air_keys, "mesh.source=eye,puff.load=air|fsi"); // the nozzle's air; a file mesh's fluid: material.*
+  const std::size_t air_numerics = k.size();
   k.push_back({"air.backflow", K::real, "1.0", "", 0, 10, {},
                "outlet backflow stabilisation beta (>= 0.5 is energy stable; 0 turns it off)"});
   k.push_back({"air.stabilisation_time", K::real, "0.25", "ms", 1e-4, 1e3, {},
                "time scale T of the stabilisation parameter tau_M = (4/T^2 + a.G a + ...)^-1/2: "
                "fixed, not the time step, so that the time steps converge to one solution; it "
                "bounds tau where the air is still (forms/navier_stokes.py)"});
-  k.push_back({"air.dt", K::real, "0.25", "ms", 1e-5, 10, {},
+  k.push_back({"air.dt", K::real, "0.25", "ms", 1e-5, 1e5, {},
                "time step (halved when Newton fails, down to 2^-solver.max_step_cuts of it); "
                "the coupled puff steps by dynamics.dt", "puff.load=air"});
   k.push_back({"air.bdf_order", K::integer, "2", "", 1, 2, {},
                "order of the backward differentiation formula in time (the first step: 1)"});
-  k.push_back({"air.output_interval", K::real, "1.0", "ms", 1e-5, 1e3, {},
+  k.push_back({"air.output_interval", K::real, "1.0", "ms", 1e-5, 1e5, {},
                "time between the XDMF velocity and pressure fields (output.fields)"});
+  only_when(k, air_numerics, "puff.load=air|fsi");
+  const std::size_t nozzle_keys = k.size();
   k.push_back({"air.radius", K::real, "50.0", "mm", 5, 500, {},
                "radius of the air domain about the optical axis"});
   k.push_back({"air.nozzle_diameter", K::real, "2.4", "mm", 0.1, 20, {},
@@ -317,7 +322,7 @@ std::vector<Key> declare()
                "radius of the finely meshed core about the axis"});
   k.push_back({"air.size_far", K::real, "5.0", "mm", 0.05, 100, {},
                "largest element size (sizes grow 0.25 mm per mm away from the core)"});
-  only_when(k, air_keys, "puff.load=air|fsi");
+  only_when(k, nozzle_keys, "mesh.source=eye,puff.load=air|fsi");
   // the inlet of a file mesh's fluid (puff.load = "fsi"), cpp/air/inlet
   const std::size_t inlet_keys = k.size();
   k.push_back({"inlet.velocity", K::real, "1.0", "m/s", 0, 1e3, {},
@@ -350,7 +355,7 @@ std::vector<Key> declare()
   k.push_back({"inlet.ramp_time", K::real, "0.0", "ms", 0, 1e7, {},
                "the speed rises as (1 - cos(pi t / ramp_time)) / 2 to its value at "
                "ramp_time, then holds (0: at once)"});
-  only_when(k, inlet_keys, "mesh.source=file,puff.load=fsi");
+  only_when(k, inlet_keys, "mesh.source=file,puff.load=air|fsi");
   // the mesh motion (puff.load = "fsi"), forms/mesh_motion.py
   const std::size_t fsi_keys = k.size();
   k.push_back({"mesh_motion.model", K::choice, "\"elastic\"", "", -inf, inf,
@@ -412,7 +417,7 @@ std::vector<Key> declare()
   k.push_back({"output.force_on", K::strings, "[]", "", -inf, inf, {},
                "file, fsi: facet groups (walls and the interface) whose fluid force, "
                "summed, is reported at each step (fluid_force_N; e.g. a body's drag "
-               "and lift)", "mesh.source=file,puff.load=fsi"});
+               "and lift)", "mesh.source=file,puff.load=air|fsi"});
   return k;
 }
 
@@ -441,8 +446,11 @@ void check_consistency(const Scene& s)
          + std::to_string(2e3 / s.real("puff.frame_rate")) + " ms");
 
   if (load == "air" && !eye)
-    fail("key 'puff.load': the air alone is meshed about the idealised eye's place; it "
-         "needs mesh.source = \"eye\" (a file mesh's fluid runs coupled: \"fsi\")");
+    for (const std::string& part : s.tables("material"))
+      if (s.string("material." + part + ".model") != "fluid")
+        fail("key 'puff.load': \"air\" on a file mesh is its fluid alone, but '" + part
+             + "' is a solid (material." + part + ".model); the fluid and a solid run "
+             "coupled: \"fsi\"");
 
   if (eye)
     for (const std::string& part : s.tables("material"))
@@ -475,16 +483,21 @@ void check_consistency(const Scene& s)
     if (load == "fsi" && fluids.empty())
       fail("key 'puff.load': \"fsi\" on a file mesh needs a fluid volume group (a "
            "[material.<group>] with model = \"fluid\")");
-    if (load != "fsi" && !fluids.empty())
-      fail("key 'material." + fluids[0] + ".model': a fluid part exists only in the coupled "
-           "run (puff.load = \"fsi\")");
-    if (fluids.size() == s.tables("material").size())
-      fail("key 'material': every volume group is fluid; the coupled run needs a solid");
-    if (load != "fsi")
+    const bool flow = load == "fsi" || load == "air";
+    if (!flow && !fluids.empty())
+      fail("key 'material." + fluids[0] + ".model': a fluid part exists only in a run of "
+           "the fluid (puff.load = \"fsi\" with a solid, \"air\" alone)");
+    if (load == "fsi" && fluids.size() == s.tables("material").size())
+      fail("key 'material': every volume group is fluid; the coupled run needs a solid "
+           "(the fluid alone: puff.load = \"air\")");
+    if (!flow)
       for (const char* b : {"inlet", "outlet", "wall", "interface"})
         if (!s.strings(std::string("boundary.") + b).empty())
-          fail(std::string("key 'boundary.") + b + "': a fluid boundary; it needs "
-               "puff.load = \"fsi\" and a fluid part");
+          fail(std::string("key 'boundary.") + b + "': a fluid boundary; it needs a fluid "
+               "part and puff.load = \"fsi\" or \"air\"");
+    if (load == "air" && !s.strings("boundary.interface").empty())
+      fail("key 'boundary.interface': the fluid alone (puff.load = \"air\") has no "
+           "interface");
     // A group has one boundary condition.
     std::map<std::string, std::string> owner;
     for (const char* b : {"fixed", "symmetry", "cavity_wall", "surface_load", "inlet", "outlet",
@@ -500,7 +513,7 @@ void check_consistency(const Scene& s)
       fail("key 'inflate.iop' > 0 but boundary.cavity_wall names no group");
     if (s.real("press.pressure") != 0 && s.strings("boundary.surface_load").empty())
       fail("key 'press.pressure' != 0 but boundary.surface_load names no group");
-    if (load != "none" && load != "fsi" && s.strings("boundary.surface_load").empty())
+    if (!flow && load != "none" && s.strings("boundary.surface_load").empty())
       fail("key 'puff.load' is not \"none\" but boundary.surface_load names no group");
     for (const std::string& part : s.tables("material"))
       if (s.points("material." + part + ".fibre_directions").size() > 2)

@@ -1,0 +1,85 @@
+#!/usr/bin/python3
+"""The periodic state of a Turek-Hron FSI2 or FSI3 run against the
+published values (Turek & Hron 2006, tables 12 and 13).
+
+Usage: scripts/turek-hron-periodic.py RUN_DIR [--case fsi3] [--from T_MS]
+       [--depth MM] [--plot OUT.png]
+
+From the tip's displacement (summary.json's steps, probe 0) and the force
+on the cylinder plus the flag (forces.csv) after --from (default: the
+last 40 % of the run), as the benchmark defines them: mean = (max + min) / 2,
+amplitude = (max - min) / 2 over the window, the frequency from the mean
+upward crossings (linearly interpolated) averaged over the window.
+"""
+import argparse
+import csv
+import json
+import sys
+
+import numpy as np
+
+PUBLISHED = {  # mean, amplitude, frequency [Hz]; mm and N/m
+    "fsi2": {"u_x": (-14.58, 12.44, 3.8), "u_y": (1.23, 80.6, 2.0),
+             "drag": (208.83, 73.75, 3.8), "lift": (0.88, 234.2, 2.0)},
+    "fsi3": {"u_x": (-2.69, 2.53, 10.9), "u_y": (1.48, 34.38, 5.3),
+             "drag": (457.3, 22.66, 10.9), "lift": (2.22, 149.78, 5.3)},
+}
+
+
+def periodic(t, y):
+    mean = 0.5 * (y.max() + y.min())
+    amplitude = 0.5 * (y.max() - y.min())
+    s = y - mean
+    up = [t[i] - s[i] * (t[i + 1] - t[i]) / (s[i + 1] - s[i])
+          for i in range(len(s) - 1) if s[i] < 0 <= s[i + 1]]
+    frequency = (len(up) - 1) / (up[-1] - up[0]) * 1e3 if len(up) > 1 else float("nan")
+    return mean, amplitude, frequency, len(up) - 1
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("run")
+    p.add_argument("--case", default="fsi3", choices=sorted(PUBLISHED))
+    p.add_argument("--from", dest="start", type=float, default=None)
+    p.add_argument("--depth", type=float, default=10.0)
+    p.add_argument("--plot", default=None)
+    a = p.parse_args()
+    steps = json.load(open(f"{a.run}/summary.json"))["steps"]
+    t = np.array([s["time"] for s in steps])
+    tip = np.array([s["probe_0_displacement_mm"] for s in steps])
+    rows = list(csv.DictReader(open(f"{a.run}/forces.csv")))
+    tf = np.array([float(r["t_ms"]) for r in rows])
+    fx = np.array([float(r["fx_N"]) for r in rows]) / a.depth * 1e3
+    fy = np.array([float(r["fy_N"]) for r in rows]) / a.depth * 1e3
+    start = a.start if a.start is not None else t[0] + 0.6 * (t[-1] - t[0])
+    signals = {"u_x": (t, tip[:, 0]), "u_y": (t, tip[:, 1]), "drag": (tf, fx), "lift": (tf, fy)}
+    print(f"{a.run}: {a.case.upper()} over t >= {start:.0f} ms (to {t[-1]:.0f} ms)")
+    print("| quantity | mean | amplitude | frequency [Hz] | periods | published mean +- amplitude [Hz] | error of amplitude | error of frequency |")
+    print("|---|---|---|---|---|---|---|---|")
+    for name, (ts, y) in signals.items():
+        w = ts >= start
+        m, amp, f, n = periodic(ts[w], y[w])
+        pm, pa, pf = PUBLISHED[a.case][name]
+        print(f"| {name} | {m:.3f} | {amp:.3f} | {f:.2f} | {n} | {pm} +- {pa} [{pf}] | "
+              f"{100 * (amp - pa) / pa:+.1f} % | {100 * (f - pf) / pf:+.1f} % |")
+    if a.plot:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(2, 2, figsize=(10, 6), sharex=True)
+        for k, (name, (ts, y)) in enumerate(signals.items()):
+            axk = ax[k // 2][k % 2]
+            axk.plot(ts / 1e3, y, lw=0.8)
+            axk.axvline(start / 1e3, color="gray", ls=":")
+            axk.set_ylabel(name + (" [mm]" if name.startswith("u") else " [N/m]"))
+            axk.grid(alpha=0.3)
+        for axk in ax[1]:
+            axk.set_xlabel("t [s]")
+        fig.suptitle(f"Turek-Hron {a.case.upper()}: the tip A and the force on cylinder + flag")
+        fig.tight_layout()
+        fig.savefig(a.plot, dpi=120)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
