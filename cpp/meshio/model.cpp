@@ -9,6 +9,7 @@
 #include <array>
 #include <set>
 #include <map>
+#include <limits>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
@@ -449,6 +450,24 @@ int normal_axis(const dolfinx::mesh::Mesh& mesh,
   if (!all_ok || lo != hi || hi < 0)
     return -1;
   return hi;
+}
+
+std::pair<double, double> coordinate_range(const dolfinx::mesh::Mesh& mesh,
+                                           const dolfinx::mesh::MeshTags<std::int32_t>& facets,
+                                           std::int32_t group, int axis)
+{
+  const std::vector<std::int32_t> list = facets.find(group);
+  const auto nodes = dolfinx::mesh::entities_to_geometry(mesh, 2, list, false);
+  const auto& x = mesh.geometry().x();
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (auto n : nodes)
+  {
+    lo = std::min(lo, x[3 * n + axis]);
+    hi = std::max(hi, x[3 * n + axis]);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_DOUBLE, MPI_MIN, mesh.comm());
+  MPI_Allreduce(MPI_IN_PLACE, &hi, 1, MPI_DOUBLE, MPI_MAX, mesh.comm());
+  return {lo, hi};
 }
 
 std::array<double, 3> outward_normal(const dolfinx::mesh::Mesh& mesh,

@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <dolfinx/fem/Function.h>
@@ -112,6 +113,12 @@ retag(const dolfinx::mesh::MeshTags<std::int32_t>& tags,
 /// they are not all normal to one axis (collective).
 int normal_axis(const dolfinx::mesh::Mesh& mesh,
                 const dolfinx::mesh::MeshTags<std::int32_t>& facets, std::int32_t group);
+
+/// The smallest and largest coordinate `axis` of the nodes of a facet
+/// group (collective; an empty group gives (inf, -inf)).
+std::pair<double, double> coordinate_range(const dolfinx::mesh::Mesh& mesh,
+                                           const dolfinx::mesh::MeshTags<std::int32_t>& facets,
+                                           std::int32_t group, int axis);
 
 /// The area-weighted mean outward unit normal of the boundary facets in
 /// these groups (the mesh's exterior: each facet has one cell; collective).

@@ -210,7 +210,11 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
       throw std::runtime_error("symmetry group '" + name
                                + "' is not a plane x, y or z = const");
     }
-    axes.insert(axis);
+    // A mirror plane halves the model; a group on two planes of one axis
+    // (the faces of a slab) does not.
+    const auto [lo, hi] = meshio::coordinate_range(*m.mesh, *m.facets, g, axis);
+    if (hi - lo <= 1e-9 * std::max(1.0, std::abs(hi)))
+      axes.insert(axis);
     auto Vi = V->sub({axis});
     auto dofs = fem::locate_dofs_topological(*Vi, 2, facets_of(g));
     _bcs.push_back(
