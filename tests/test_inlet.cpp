@@ -2,6 +2,8 @@
 // their closed forms, the mean of each over its section by quadrature, and
 // the ramp in time.
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <gtest/gtest.h>
 
 #include "air/inlet.h"
@@ -99,6 +101,62 @@ TEST(Inlet, RampRisesSmoothlyAndHolds)
   EXPECT_NEAR((in.ramp(2000) - in.ramp(2000 - 1e-3)) / 1e-3, 0, 1e-6);
   in.ramp_time = 0;
   EXPECT_EQ(in.ramp(0), 1);
+}
+
+} // namespace
+
+namespace
+{
+
+std::filesystem::path write_table(const std::string& name, const std::string& text)
+{
+  auto path = std::filesystem::temp_directory_path() / name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string table_error(const std::string& text)
+{
+  try
+  {
+    Inlet::read_table(write_table("nct_inlet_bad.csv", text));
+  }
+  catch (const std::invalid_argument& e)
+  {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Inlet, TableHoldsItsPointsAndBlendsBetween)
+{
+  Inlet in;
+  in.profile = Inlet::Profile::table;
+  in.direction = {1, 0, 0};
+  in.points = Inlet::read_table(write_table(
+      "nct_inlet.csv", "x_mm,y_mm,z_mm,u_m_s\n0,0,0,1.0\n0, 2, 0, 3.0\n\n0,4,0,2.0\n"));
+  ASSERT_EQ(in.points.size(), 3u);
+  EXPECT_DOUBLE_EQ(in.velocity({0, 0, 0})[0], 1.0); // each point's own value
+  EXPECT_DOUBLE_EQ(in.velocity({0, 2, 0})[0], 3.0);
+  EXPECT_DOUBLE_EQ(in.velocity({0, 4, 0})[0], 2.0);
+  // Between: Shepard's weights 1/r^2 (r = 1, 1, 3 from y = 1).
+  const double w = 1 + 1 + 1.0 / 9;
+  EXPECT_NEAR(in.velocity({0, 1, 0})[0], (1.0 + 3.0 + 2.0 / 9) / w, 1e-14);
+  EXPECT_EQ(in.velocity({0, 1, 0})[1], 0);
+  const auto u = in.velocity({0, 7, 3});
+  EXPECT_GT(u[0], 1.0);
+  EXPECT_LT(u[0], 3.0); // a weighted mean stays within the values
+}
+
+TEST(Inlet, BadTablesNameTheLine)
+{
+  EXPECT_NE(table_error("").find(":1: empty file"), std::string::npos);
+  EXPECT_NE(table_error("x,y,z,u\n").find(":1: header 'x,y,z,u'"), std::string::npos);
+  EXPECT_NE(table_error("x_mm,y_mm,z_mm,u_m_s\n").find(":2: no points"), std::string::npos);
+  EXPECT_NE(table_error("x_mm,y_mm,z_mm,u_m_s\n0,0,0,1\n0,1,nan,2\n").find(":3: '0,1,nan,2' is not four finite numbers"),
+            std::string::npos);
+  EXPECT_NE(table_error("x_mm,y_mm,z_mm,u_m_s\n0,0,0,1,5\n").find(":2:"), std::string::npos);
+  EXPECT_NE(table_error("x_mm,y_mm,z_mm,u_m_s\n0,0,0\n").find(":2:"), std::string::npos);
 }
 
 } // namespace

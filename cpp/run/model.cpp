@@ -446,6 +446,20 @@ std::unique_ptr<puff::Load> puff_load(const scene::Scene& s)
 void check(MPI_Comm comm, const scene::Scene& s)
 {
   puff_load(s);
+  if (s.has("inlet.profile") && s.string("inlet.profile") == "table")
+  {
+    if (s.string("inlet.table").empty())
+      throw scene::Error(s.file().string() + ": key 'inlet.table': inlet.profile = \"table\" "
+                         "needs a CSV file (x_mm,y_mm,z_mm,u_m_s)");
+    try
+    {
+      air::Inlet::read_table(s.path("inlet.table"));
+    }
+    catch (const std::invalid_argument& e)
+    {
+      throw scene::Error(s.file().string() + ": key 'inlet.table': " + e.what());
+    }
+  }
   if (s.string("fem.formulation") == "mixed" && s.integer("fem.degree") != 2)
     throw scene::Error(s.file().string() + ": key 'fem.formulation': \"mixed\" (P2/P0) needs "
                        "fem.degree = 2, got " + std::to_string(s.integer("fem.degree")));
@@ -604,7 +618,22 @@ air::Inlet file_inlet(const scene::Scene& s, const meshio::Tagged& mesh,
   }
   in.speed = 1;
   in.ramp_time = s.real("inlet.ramp_time");
-  if (s.string("inlet.profile") == "parabolic")
+  if (s.string("inlet.profile") == "table")
+  {
+    in.profile = air::Inlet::Profile::table;
+    if (s.string("inlet.table").empty())
+      throw scene::Error(s.file().string() + ": key 'inlet.table': inlet.profile = \"table\" "
+                         "needs a CSV file (x_mm,y_mm,z_mm,u_m_s)");
+    try
+    {
+      in.points = air::Inlet::read_table(s.path("inlet.table"));
+    }
+    catch (const std::invalid_argument& e)
+    {
+      throw scene::Error(s.file().string() + ": key 'inlet.table': " + e.what());
+    }
+  }
+  else if (s.string("inlet.profile") == "parabolic")
   {
     in.center = s.points("inlet.center").at(0);
     if (s.string("inlet.section") == "circle")
@@ -664,8 +693,14 @@ FluidSide file_fluid_side(const scene::Scene& s, const Model& model)
   const std::string part = fluid_parts(s).at(0);
   f.fluid = {s.real("material." + part + ".density"), s.real("material." + part + ".viscosity"),
              s.real("air.backflow"), s.real("air.stabilisation_time")};
-  f.velocity_scale = s.real("inlet.velocity") > 0 ? s.real("inlet.velocity") : 1.0;
   const air::Inlet inlet = file_inlet(s, m, f.boundaries.inlet);
+  double speed = 0; // the largest
+  if (inlet.profile == air::Inlet::Profile::table)
+    for (const auto& p : inlet.points)
+      speed = std::max(speed, std::abs(p[3]));
+  else
+    speed = s.real("inlet.velocity");
+  f.velocity_scale = speed > 0 ? speed : 1.0;
   f.set_inlet = [inlet](air::Problem& p) { p.set_inlet([inlet](const auto& x) { return inlet.velocity(x); }); };
   return f;
 }

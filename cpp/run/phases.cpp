@@ -86,9 +86,10 @@ std::function<double(double)> inlet_velocity(const scene::Scene& s)
 {
   if (s.string("mesh.source") == "file")
   {
+    // The profile holds the speeds (a table's, or the unit shape times inlet.velocity).
     air::Inlet ramp;
     ramp.ramp_time = s.real("inlet.ramp_time");
-    const double U = s.real("inlet.velocity");
+    const double U = s.string("inlet.profile") == "table" ? 1.0 : s.real("inlet.velocity");
     return [=](double t) { return U * ramp.ramp(t); };
   }
   const double U = s.real("air.inlet_velocity"), peak_time = s.real("puff.peak_time"),

@@ -326,16 +326,22 @@ std::vector<Key> declare()
   // the inlet of a file mesh's fluid (puff.load = "fsi"), cpp/air/inlet
   const std::size_t inlet_keys = k.size();
   k.push_back({"inlet.velocity", K::real, "1.0", "m/s", 0, 1e3, {},
-               "the profile's largest speed (on its axis or centre line) once ramped"});
+               "the profile's largest speed (on its axis or centre line) once ramped",
+               "inlet.profile=uniform|parabolic"});
   k.push_back({"inlet.direction", K::points, "[]", "", -inf, inf, {},
                "the flow's direction at the inlet; none: the inlet's inward normal (a "
                "plane inlet)"});
   k.push_back({"inlet.profile", K::choice, "\"uniform\"", "", -inf, inf,
-               {"uniform", "parabolic"},
-               "uniform across the inlet, or parabolic over inlet.section: a rectangle "
+               {"uniform", "parabolic", "table"},
+               "uniform across the inlet; parabolic over inlet.section: a rectangle "
                "prod_i (1 - (s_i / a_i)^2) (s_i along inlet.axes from inlet.center, a_i "
                "= inlet.half_width_i; inf: no variation that way, a channel or a slab) or "
-               "a circle 1 - (r / inlet.radius)^2"});
+               "a circle 1 - (r / inlet.radius)^2; table: speeds at points (inlet.table), "
+               "between them their inverse distance weighted mean (Shepard, power 2)"});
+  k.push_back({"inlet.table", K::string, "\"\"", "", -inf, inf, {},
+               "CSV file with the header x_mm,y_mm,z_mm,u_m_s (the speed along "
+               "inlet.direction once ramped), relative to the scene file",
+               "inlet.profile=table"});
   k.push_back({"inlet.section", K::choice, "\"rectangle\"", "", -inf, inf,
                {"rectangle", "circle"}, "the parabolic profile's section",
                "inlet.profile=parabolic"});
@@ -415,9 +421,10 @@ std::vector<Key> declare()
                "reference points whose displacement is reported at each step "
                "(the eye adds its apex)"});
   k.push_back({"output.force_on", K::strings, "[]", "", -inf, inf, {},
-               "file, fsi: facet groups (walls and the interface) whose fluid force, "
-               "summed, is reported at each step (fluid_force_N; e.g. a body's drag "
-               "and lift)", "mesh.source=file,puff.load=air|fsi"});
+               "file: facet groups (walls and the interface) whose fluid force, summed "
+               "node by node, is reported at each step (forces.csv, steps.csv's "
+               "air_force_*_N, summary.json's air.force_N; e.g. a body's drag and lift)",
+               "mesh.source=file,puff.load=air|fsi"});
   return k;
 }
 
