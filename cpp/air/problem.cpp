@@ -248,11 +248,9 @@ std::array<double, 3> Problem::interface_force() const
   return f;
 }
 
-std::array<double, 3> Problem::force_on(const std::vector<std::int32_t>& groups) const
+std::vector<std::array<std::int32_t, 2>>
+Problem::wall_dofs(const std::vector<std::int32_t>& groups) const
 {
-  la::Vector<double> b(up->x()->map(), up->x()->bs());
-  fem::assemble_vector<double>(b.mutable_array(), *_R);
-  b.scatter_rev(std::plus<double>());
   std::vector<std::int32_t> facets;
   for (auto g : groups)
   {
@@ -263,11 +261,23 @@ std::array<double, 3> Problem::force_on(const std::vector<std::int32_t>& groups)
   facets.erase(std::unique(facets.begin(), facets.end()), facets.end());
   auto W0 = up->function_space()->sub({0});
   auto dofs = fem::locate_dofs_topological({*W0, *velocity->function_space()}, 2, facets);
-  const std::int32_t owned = b.map()->size_local() * b.bs();
-  std::array<double, 3> force{0, 0, 0};
+  const auto& map = *up->function_space()->dofmap()->index_map;
+  const std::int32_t owned = map.size_local() * up->function_space()->dofmap()->index_map_bs();
+  std::vector<std::array<std::int32_t, 2>> wall;
   for (std::size_t j = 0; j < dofs[0].size(); ++j)
     if (dofs[0][j] < owned)
-      force[dofs[1][j] % 3] -= b.array()[dofs[0][j]];
+      wall.push_back({dofs[0][j], dofs[1][j] % 3});
+  return wall;
+}
+
+std::array<double, 3> Problem::force_on(const std::vector<std::array<std::int32_t, 2>>& dofs) const
+{
+  la::Vector<double> b(up->x()->map(), up->x()->bs());
+  fem::assemble_vector<double>(b.mutable_array(), *_R);
+  b.scatter_rev(std::plus<double>());
+  std::array<double, 3> force{0, 0, 0};
+  for (auto [dof, component] : dofs)
+    force[component] -= b.array()[dof];
   MPI_Allreduce(MPI_IN_PLACE, force.data(), 3, MPI_DOUBLE, MPI_SUM,
                 up->function_space()->mesh()->comm());
   return force;

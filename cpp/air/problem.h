@@ -116,11 +116,14 @@ public:
   /// Moving: the air's force on the interface, -integral sigma n da [N]
   /// (the meshed part; every rank gets it).
   std::array<double, 3> interface_force() const;
-  /// The air's force on the walls of these facet groups [N]: minus its
-  /// consistent reaction, the residual's velocity rows at their nodes
-  /// before any condition replaces them (each node once; every rank gets
-  /// it). At a converged state; for a body's drag and lift.
-  std::array<double, 3> force_on(const std::vector<std::int32_t>& groups) const;
+  /// The owned velocity dofs (local index in (u, p), component) on the
+  /// facets of these groups, each node once: where force_on sums.
+  std::vector<std::array<std::int32_t, 2>> wall_dofs(const std::vector<std::int32_t>& groups) const;
+  /// The air's force on the walls whose wall_dofs these are [N]: minus its
+  /// consistent reaction, the residual's velocity rows there before any
+  /// condition replaces them (every rank gets it). At a converged state;
+  /// for a body's drag and lift.
+  std::array<double, 3> force_on(const std::vector<std::array<std::int32_t, 2>>& dofs) const;
   /// Moving: the smallest det F of the mesh map over the cells, and the
   /// reference centroid of its cell (every rank gets it); -inf if NaN.
   std::pair<double, std::array<double, 3>> smallest_mesh_jacobian() const;

@@ -163,14 +163,18 @@ FlowOutput::FlowOutput(const scene::Scene& scene, io::RunFolder& folder,
     : _folder(folder), _air(air), _fields(scene, folder, mesh, air, motion),
       _forces_csv("t_ms,fx_N,fy_N,fz_N\n")
 {
+  std::vector<std::int32_t> groups;
   for (auto& name : scene.strings("output.force_on"))
-    _groups.push_back(mesh.groups.surfaces.at(name));
+    groups.push_back(mesh.groups.surfaces.at(name));
+  _forces = !groups.empty();
+  if (_forces)
+    _wall_dofs = air.wall_dofs(groups);
 }
 
 void FlowOutput::measure()
 {
-  if (!_groups.empty())
-    _force = _air.force_on(_groups);
+  if (_forces)
+    _force = _air.force_on(_wall_dofs);
 }
 
 FlowOutput::Sample FlowOutput::sample(double time)
@@ -191,7 +195,7 @@ void FlowOutput::write_tables() const { _folder.write_text("forces.csv", _forces
 void FlowOutput::summarise(nlohmann::json& summary) const
 {
   summary["max_velocity_m_s"] = _speed_max;
-  if (!_groups.empty())
+  if (_forces)
     summary["force_N"] = {_last.force[0], _last.force[1], _last.force[2]};
 }
 

@@ -122,7 +122,8 @@ public:
 private:
   io::RunFolder& _folder;
   air::Problem& _air;
-  std::vector<std::int32_t> _groups;
+  std::vector<std::array<std::int32_t, 2>> _wall_dofs; ///< of output.force_on
+  bool _forces = false;
   AirFields _fields;
   std::string _forces_csv;
   Sample _last;
