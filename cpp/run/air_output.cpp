@@ -199,4 +199,51 @@ void FlowOutput::summarise(nlohmann::json& summary) const
     summary["force_N"] = {_last.force[0], _last.force[1], _last.force[2]};
 }
 
+AirRecord::AirRecord(const scene::Scene& scene, io::RunFolder& folder, const Model& model,
+                     air::Problem& air, bool with_eye, const mesh_motion::Problem* motion)
+{
+  if (model.eye)
+    _eye.emplace(scene, folder, *model.air_mesh, air, with_eye, motion);
+  else
+    _flow.emplace(scene, folder, model.air_mesh->mesh, air, motion);
+}
+
+void AirRecord::measure()
+{
+  if (_flow)
+    _flow->measure();
+}
+
+AirRecord::Sample AirRecord::sample(double time)
+{
+  Sample p;
+  if (_eye)
+  {
+    const auto e = _eye->sample(time);
+    p.apex_pressure = e.apex_pressure, p.max_speed = e.max_speed;
+  }
+  else
+  {
+    const auto f = _flow->sample(time);
+    p.force = f.force, p.max_speed = f.max_speed;
+  }
+  return p;
+}
+
+void AirRecord::write_tables() const
+{
+  if (_eye)
+    _eye->write_tables();
+  else
+    _flow->write_tables();
+}
+
+void AirRecord::summarise(nlohmann::json& summary) const
+{
+  if (_eye)
+    _eye->summarise(summary);
+  else
+    _flow->summarise(summary);
+}
+
 } // namespace nct

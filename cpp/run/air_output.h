@@ -4,6 +4,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -129,6 +130,37 @@ private:
   Sample _last;
   std::array<double, 3> _force{0, 0, 0};
   double _speed_max = 0;
+};
+
+/// The air's record of a run, whichever the mesh: the eye's (AirOutput:
+/// the apex, the corneal pressure, the centreline) or a file mesh's
+/// (FlowOutput: the force on output.force_on).
+class AirRecord
+{
+public:
+  /// `with_eye`: the eye is in the air (a rigid or coupled wall); `motion`:
+  /// the mesh motion, or null for a fixed mesh.
+  AirRecord(const scene::Scene& scene, io::RunFolder& folder, const Model& model,
+            air::Problem& air, bool with_eye, const mesh_motion::Problem* motion);
+
+  struct Sample
+  {
+    double apex_pressure = 0;             ///< [mmHg] (the eye)
+    double max_speed = 0;                 ///< [m/s]
+    std::array<double, 3> force{0, 0, 0}; ///< [N] (a file mesh)
+  };
+  /// What needs the converged step before it is advanced (the force).
+  void measure();
+  /// The state at `time` into the tables and, when due, the fields.
+  Sample sample(double time);
+  void write_tables() const;
+  void summarise(nlohmann::json& summary) const;
+  /// The eye's record, or null on a file mesh.
+  const AirOutput* eye() const { return _eye ? &*_eye : nullptr; }
+
+private:
+  std::optional<AirOutput> _eye;
+  std::optional<FlowOutput> _flow;
 };
 
 } // namespace nct

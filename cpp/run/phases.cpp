@@ -3,7 +3,6 @@
 // alone about a rigid eye, or the air and the eye coupled.
 #include <cmath>
 #include <limits>
-#include <optional>
 
 #include <dolfinx/io/XDMFFile.h>
 #include <petscksp.h>
@@ -383,36 +382,8 @@ public:
     if (with_eye)
       s.folder.log("air: the eye is a rigid wall; the solid phases (zero pressure, inflation, "
                    "rest) are not run");
-    std::optional<AirOutput> eye_out;
-    std::optional<FlowOutput> flow_out;
-    if (file)
-      flow_out.emplace(s.scene, s.folder, s.model.air_mesh->mesh, air, nullptr);
-    else
-      eye_out.emplace(s.scene, s.folder, *s.model.air_mesh, air, with_eye, nullptr);
-    _eye_out = eye_out ? &*eye_out : nullptr;
-    _flow_out = flow_out ? &*flow_out : nullptr;
-    // The sampled state: the apex pressure (the eye) or the force on
-    // output.force_on (a file mesh), and the largest speed.
-    struct Sample
-    {
-      double apex_pressure = 0, max_speed = 0;
-      std::array<double, 3> force{0, 0, 0};
-    };
-    auto sample = [&](double t)
-    {
-      Sample p;
-      if (eye_out)
-      {
-        const auto e = eye_out->sample(t);
-        p.apex_pressure = e.apex_pressure, p.max_speed = e.max_speed;
-      }
-      else
-      {
-        const auto f = flow_out->sample(t);
-        p.force = f.force, p.max_speed = f.max_speed;
-      }
-      return p;
-    };
+    AirRecord out(s.scene, s.folder, s.model, air, with_eye, nullptr);
+    _out = &out;
     auto& newton = s.newton("air", [&] { return air.create_matrix(); });
     set_fieldsplit(newton.ksp(), air);
     // Full Newton steps: the energy line search has no energy to follow here.
@@ -431,7 +402,7 @@ public:
     {
       // From rest, the inlet at its t = 0 value.
       air.set_inlet_scale(inlet(0));
-      const auto first = sample(0);
+      const auto first = out.sample(0);
       steps_csv += format("0,0,0,0,%.6g,%.6g,%.6g,0,0,0,0\n", inlet(0), first.apex_pressure,
                           first.max_speed);
       const int order = s.scene.integer("air.bdf_order");
@@ -439,8 +410,7 @@ public:
                                        [] { return 1.0; },
                                        [&]
                                        {
-                                         if (flow_out)
-                                           flow_out->measure();
+                                         out.measure();
                                          air.advance();
                                        }};
       double t_step = MPI_Wtime();
@@ -451,7 +421,7 @@ public:
                       const double wall = MPI_Wtime() - t_step;
                       t_step = MPI_Wtime();
                       ++steps;
-                      const auto p = sample(time);
+                      const auto p = out.sample(time);
                       steps_csv += format("%.6g,%.6g,%d,%.6e,%.6g,%.6g,%.6g,%.10g,%.10g,%.10g,"
                                           "%.3f\n",
                                           time, dt, report.iterations, report.residuals.back(),
@@ -480,16 +450,16 @@ public:
     if (file)
     {
       nlohmann::json air_summary;
-      flow_out->summarise(air_summary);
+      out.summarise(air_summary);
       s.summary["air"] = air_summary;
       return;
     }
-    eye_out->summarise(s.summary);
-    const AirOutput& out = *eye_out;
+    out.summarise(s.summary);
+    const AirOutput& eye = *out.eye();
     if (with_eye)
       s.folder.log(format("apex pressure: max %.3f mmHg at %.3f ms (stagnation 0.5 rho U^2 = "
                           "%.3f mmHg)",
-                          out.apex_max(), out.apex_max_time(),
+                          eye.apex_max(), eye.apex_max_time(),
                           s.summary["stagnation_pressure_mmHg"].get<double>()));
     std::string peaks = "centreline peaks:";
     for (auto& [d, v] : s.summary["centreline_peak_m_s"].items())
@@ -505,10 +475,7 @@ private:
     s.stepper.newton_iterations += stepper.newton_iterations;
     s.stepper.cuts += stepper.cuts;
     s.folder.write_text("steps.csv", steps_csv);
-    if (_eye_out)
-      _eye_out->write_tables();
-    else
-      _flow_out->write_tables();
+    _out->write_tables();
   }
 
   /// Velocity and pressure blocks for a fieldsplit preconditioner, as
@@ -535,8 +502,7 @@ private:
     }
   }
 
-  AirOutput* _eye_out = nullptr;
-  FlowOutput* _flow_out = nullptr;
+  AirRecord* _out = nullptr;
 };
 
 /// Phase 6, coupled (puff.load = "fsi"): the air and the eye in one
@@ -552,14 +518,7 @@ public:
     auto& air = *m.air;
     s.start_dynamics();
     coupled.start();
-    // The record: the eye's (apex, corneal pressure, centreline) or a file
-    // mesh's (the force on output.force_on).
-    std::optional<AirOutput> eye_out;
-    std::optional<FlowOutput> flow_out;
-    if (m.eye)
-      eye_out.emplace(s.scene, s.folder, *m.air_mesh, air, true, m.motion.get());
-    else
-      flow_out.emplace(s.scene, s.folder, m.air_mesh->mesh, air, m.motion.get());
+    AirRecord out(s.scene, s.folder, m, air, true, m.motion.get());
     const auto inlet = inlet_velocity(s.scene);
     auto& unknowns = coupled.unknowns();
     air.set_inlet_scale(inlet(0));
@@ -581,9 +540,8 @@ public:
         {
           power = coupled.power();
           jacobian = air.smallest_mesh_jacobian().first;
-          if (flow_out)
-            flow_out->measure();
-          else
+          out.measure();
+          if (m.eye)
             force = -symmetry * air.interface_force()[1]; // along -y, into the eye
           coupled.advance();
         }};
@@ -592,9 +550,9 @@ public:
     auto sample = [&](double t)
     {
       biomarkers::Columns c;
-      if (eye_out)
+      const auto p = out.sample(t);
+      if (m.eye)
       {
-        const auto p = eye_out->sample(t);
         c = {{"apex_air_pressure_mmHg", p.apex_pressure},
              {"max_air_velocity_m_s", p.max_speed},
              {"air_force_N", force}};
@@ -602,7 +560,6 @@ public:
       }
       else
       {
-        const auto p = flow_out->sample(t);
         c = {{"max_air_velocity_m_s", p.max_speed},
              {"air_force_x_N", p.force[0]},
              {"air_force_y_N", p.force[1]},
@@ -615,13 +572,6 @@ public:
                          {"interface_power_solid_mW", power.solid}});
       text += format("  mesh J %.3f  power %.4e/%.4e mW", jacobian, power.air, power.solid);
       return c;
-    };
-    auto write_tables = [&]
-    {
-      if (eye_out)
-        eye_out->write_tables();
-      else
-        flow_out->write_tables();
     };
     try
     {
@@ -649,15 +599,12 @@ public:
     }
     catch (...)
     {
-      write_tables();
+      out.write_tables();
       throw;
     }
-    write_tables();
+    out.write_tables();
     nlohmann::json air_summary;
-    if (eye_out)
-      eye_out->summarise(air_summary);
-    else
-      flow_out->summarise(air_summary);
+    out.summarise(air_summary);
     s.summary["air"] = air_summary;
     s.summary["coupled_timings_s"] = coupled.timings();
     s.summary["air_mesh_jacobian_min"] = worst_jacobian;
