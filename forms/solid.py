@@ -15,8 +15,11 @@ with P = dPsi/dF. Cells carry the tag of their material law, facets the
 tag of their load. Material parameters and fibres are per-cell (DG0)
 fields, so any number of parts can share one law.
 
-The hyperelastic laws split Psi = Psi_iso(F) + U(J) (hgo.py,
-neo_hookean.py, volumetric.py). `variant` chooses how U is integrated:
+The nearly incompressible laws split Psi = Psi_iso(F) + U(J) (hgo.py,
+neo_hookean.py, volumetric.py), the compressible neo-Hookean Psi =
+Psi_shear(F) + lambda/2 (ln J)^2 (compressible_neo_hookean.py);
+Saint Venant-Kirchhoff (saint_venant_kirchhoff.py) is not split.
+`variant` chooses how the volumetric part is integrated:
 
 - "" (displacement): at every cell quadrature point, like Psi_iso. The
   volumetric constraint J ~ 1 then binds at every point, and the elements
@@ -41,14 +44,15 @@ from ufl import (Coefficient, Constant, FacetNormal, FiniteElement, Measure,
 
 import cavity
 import dynamics
+import compressible_neo_hookean
 import hgo
 import kinematics
-import linear_elastic
 import neo_hookean
+import saint_venant_kirchhoff
 import volumetric
 
 # Integration tags, shared with cpp/solid/problem.cpp.
-HGO, NEO_HOOKEAN, LINEAR_ELASTIC = 1, 2, 3        # cell tags: material law
+HGO, NEO_HOOKEAN, SAINT_VENANT_KIRCHHOFF, COMPRESSIBLE_NEO_HOOKEAN = 1, 2, 3, 4  # cell tags: law
 CAVITY_1_WALL, SURFACE_LOAD, CAVITY_2_WALL = 1, 2, 3  # facet tags: load
 
 element = VectorElement("Lagrange", tetrahedron, degree)  # noqa: F821 (set by the wrapper)
@@ -89,13 +93,20 @@ N = FacetNormal(tetrahedron)
 def balance(w):
     """Internal work and pressure loads at the displacement (expression) w."""
     Fw = kinematics.deformation_gradient(w)
-    P_volume = diff(volumetric.energy(det(Fw), kappa), Fw)
+    Jw = det(Fw)
+    P_volume = diff(volumetric.energy(Jw, kappa), Fw)
+    P_cnh_volume = diff(compressible_neo_hookean.volumetric_energy(Jw, youngs_modulus,
+                                                                   poisson_ratio), Fw)
     return (inner(diff(hgo.isochoric_energy(Fw, c10, k1, k2, fibre_1, fibre_2), Fw), grad(v))
             * dx(HGO)
             + inner(diff(neo_hookean.isochoric_energy(Fw, c10), Fw), grad(v)) * dx(NEO_HOOKEAN)
             + inner(P_volume, grad(v)) * (dx_volume(HGO) + dx_volume(NEO_HOOKEAN))
-            + inner(diff(linear_elastic.energy(Fw, youngs_modulus, poisson_ratio), Fw), grad(v))
-            * dx(LINEAR_ELASTIC)
+            + inner(diff(saint_venant_kirchhoff.energy(Fw, youngs_modulus, poisson_ratio), Fw),
+                    grad(v)) * dx(SAINT_VENANT_KIRCHHOFF)
+            + inner(diff(compressible_neo_hookean.shear_energy(Fw, Jw, youngs_modulus,
+                                                               poisson_ratio), Fw), grad(v))
+            * dx(COMPRESSIBLE_NEO_HOOKEAN)
+            + inner(P_cnh_volume, grad(v)) * dx_volume(COMPRESSIBLE_NEO_HOOKEAN)
             + cavity.follower_pressure(p_cavity_1, Fw, N, v) * ds(CAVITY_1_WALL)
             + cavity.follower_pressure(p_cavity_2, Fw, N, v) * ds(CAVITY_2_WALL)
             + cavity.follower_pressure(p_surface * surface_profile, Fw, N, v) * ds(SURFACE_LOAD))
@@ -105,7 +116,9 @@ F = kinematics.deformation_gradient(u)
 psi_hgo = hgo.isochoric_energy(F, c10, k1, k2, fibre_1, fibre_2)
 psi_neo_hookean = neo_hookean.isochoric_energy(F, c10)
 psi_volume = volumetric.energy(det(F), kappa)
-psi_linear_elastic = linear_elastic.energy(F, youngs_modulus, poisson_ratio)
+psi_saint_venant_kirchhoff = saint_venant_kirchhoff.energy(F, youngs_modulus, poisson_ratio)
+psi_cnh_shear = compressible_neo_hookean.shear_energy(F, det(F), youngs_modulus, poisson_ratio)
+psi_cnh_volume = compressible_neo_hookean.volumetric_energy(det(F), youngs_modulus, poisson_ratio)
 
 R = balance(u)
 J = derivative(R, u, du)
@@ -125,9 +138,11 @@ dvolume_2 = derivative(volume_2, u, v)
 # pick the stress of the cell's own law (1 on its cells, 0 elsewhere).
 is_hgo = Coefficient(cell_scalar)
 is_neo_hookean = Coefficient(cell_scalar)
-is_linear_elastic = Coefficient(cell_scalar)
+is_saint_venant_kirchhoff = Coefficient(cell_scalar)
+is_compressible_neo_hookean = Coefficient(cell_scalar)
 P = (is_hgo * diff(psi_hgo + psi_volume, F) + is_neo_hookean * diff(psi_neo_hookean + psi_volume, F)
-     + is_linear_elastic * diff(psi_linear_elastic, F))
+     + is_saint_venant_kirchhoff * diff(psi_saint_venant_kirchhoff, F)
+     + is_compressible_neo_hookean * diff(psi_cnh_shear + psi_cnh_volume, F))
 sigma = kinematics.cauchy_stress(P, F)
 s = sigma - tr(sigma) / 3.0 * Identity(3)
 von_mises = sqrt(1.5 * inner(s, s))
@@ -162,7 +177,9 @@ cavity_load_dynamic_2 = cavity.follower_pressure(1.0, F_mid, N, v) * ds(CAVITY_2
 # Energies (for checks): stored in the solid at u, kinetic at v_n.
 strain_energy = (psi_hgo * dx(HGO) + psi_neo_hookean * dx(NEO_HOOKEAN)
                  + psi_volume * (dx_volume(HGO) + dx_volume(NEO_HOOKEAN))
-                 + psi_linear_elastic * dx(LINEAR_ELASTIC))
+                 + psi_saint_venant_kirchhoff * dx(SAINT_VENANT_KIRCHHOFF)
+                 + psi_cnh_shear * dx(COMPRESSIBLE_NEO_HOOKEAN)
+                 + psi_cnh_volume * dx_volume(COMPRESSIBLE_NEO_HOOKEAN))
 kinetic_energy = 0.5 * density * inner(v_old, v_old) * dx_mass
 
 # det F at the cell quadrature points and the vertices, to find inverted

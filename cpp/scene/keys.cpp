@@ -2,6 +2,7 @@
 #include "scene/scene.h"
 
 #include <set>
+#include <tuple>
 
 namespace nct::scene
 {
@@ -25,11 +26,14 @@ void add_material(std::vector<Key>& keys, const std::string& part,
   const std::size_t first = keys.size();
   const std::string m = "material." + part + ".";
   keys.push_back({m + "model", K::choice, "\"" + d.model + "\"", "", -inf, inf,
-                  {"hgo", "neo_hookean", "linear_elastic", "fluid"},
-                  "material law of the part: hgo, neo_hookean, linear_elastic (Saint "
-                  "Venant-Kirchhoff: linear in the Green-Lagrange strain), or fluid (file "
-                  "meshes with puff.load = \"fsi\": the part is incompressible Newtonian "
-                  "fluid, the air block's Navier-Stokes)"});
+                  {"hgo", "neo_hookean", "compressible_neo_hookean", "saint_venant_kirchhoff",
+                   "fluid"},
+                  "material law of the part: hgo, neo_hookean (nearly incompressible, C10 "
+                  "and kappa), compressible_neo_hookean (E and nu: Hooke's law at small "
+                  "strain, stable in compression), saint_venant_kirchhoff (E and nu: linear "
+                  "in the Green-Lagrange strain, softens and collapses in compression), or "
+                  "fluid (file meshes with puff.load = \"fsi\": the part is incompressible "
+                  "Newtonian fluid, the air block's Navier-Stokes)"});
   keys.push_back({m + "c10", K::real, d.c10, "MPa", 1e-6, 1e5, {},
                   "matrix stiffness C10 (hgo, neo_hookean); shear modulus 2 C10"});
   keys.push_back({m + "k1", K::real, d.k1, "MPa", 0, 1e3, {},
@@ -39,9 +43,10 @@ void add_material(std::vector<Key>& keys, const std::string& part,
   keys.push_back({m + "kappa", K::real, d.kappa, "MPa", 1e-3, 1e7, {},
                   "bulk modulus of the volumetric penalty (hgo, neo_hookean)"});
   keys.push_back({m + "youngs_modulus", K::real, d.youngs_modulus, "MPa", 1e-9,
-                  1e5, {}, "Young's modulus E (linear_elastic)"});
+                  1e5, {}, "Young's modulus E (compressible_neo_hookean, saint_venant_kirchhoff)"});
   keys.push_back({m + "poisson_ratio", K::real, d.poisson_ratio, "", 0, 0.499, {},
-                  "Poisson's ratio nu (linear_elastic)"});
+                  "Poisson's ratio nu (compressible_neo_hookean, saint_venant_kirchhoff); "
+                  "bulk modulus E / (3 (1 - 2 nu))"});
   keys.push_back({m + "density", K::real, "0.0011", "g/mm^3", 1e-9, 1e3, {},
                   "mass density (dynamic phases; a fluid's density)"});
   if (!fibres_from_geometry)
@@ -136,10 +141,18 @@ std::vector<Key> declare()
   add_material(k, "cornea", {"hgo", "0.05", "0.010", "100", "5.0", "1.0", "0.3"}, true, eye);
   add_material(k, "limbus", {"hgo", "0.05", "0.010", "100", "5.0", "1.0", "0.3"}, true, eye);
   add_material(k, "sclera", {"neo_hookean", "0.8", "0", "1", "80.0", "1.0", "0.3"}, true, eye);
-  // Internal structures (design.md section 5; nu = 0.45 is our choice).
-  for (auto [part, E] : {std::pair{"lens_cortex", "0.35"}, {"lens_nucleus", "0.0003"},
-                         {"zonule", "0.35"}, {"vitreous_membrane", "0.35"}})
-    add_material(k, part, {"linear_elastic", "0.05", "0", "1", "5.0", E, "0.45"}, true,
+  // Internal structures: E from design.md section 5, "linear elastic" there
+  // taken as the compressible neo-Hookean (Hooke's law at small strain,
+  // stable in compression). The lens is nearly incompressible: nu = 0.49,
+  // as in the lens models since Fisher (J Physiol 212 (1971) 147) and
+  // Burd et al. (Vision Res 42 (2002) 2235); it keeps the soft nucleus'
+  // bulk modulus (5 kPa, 37 mmHg) above the IOP. The thin zonule and
+  // membrane keep 0.45 (their volume change does not matter).
+  for (auto [part, E, nu] : {std::tuple{"lens_cortex", "0.35", "0.49"},
+                             {"lens_nucleus", "0.0003", "0.49"},
+                             {"zonule", "0.35", "0.45"},
+                             {"vitreous_membrane", "0.35", "0.45"}})
+    add_material(k, part, {"compressible_neo_hookean", "0.05", "0", "1", "5.0", E, nu}, true,
                  internal);
   add_material(k, "*", {"neo_hookean", "0.5", "0", "1", "50.0", "1.0", "0.3"}, false,
                "mesh.source=file");

@@ -3,6 +3,7 @@
 #include "scene/scene.h"
 
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 namespace nct::solid
@@ -11,10 +12,17 @@ namespace nct::solid
 Material read_material(const scene::Scene& s, const std::string& part)
 {
   const std::string m = "material." + part + ".";
+  static const std::map<std::string, Law> laws
+      = {{"hgo", Law::hgo},
+         {"neo_hookean", Law::neo_hookean},
+         {"saint_venant_kirchhoff", Law::saint_venant_kirchhoff},
+         {"compressible_neo_hookean", Law::compressible_neo_hookean}};
   const std::string model = s.string(m + "model");
-  Material mat{model == "hgo"           ? Law::hgo
-               : model == "neo_hookean" ? Law::neo_hookean
-                                        : Law::linear_elastic,
+  auto law = laws.find(model);
+  if (law == laws.end())
+    throw std::invalid_argument("material." + part + ".model = \"" + model
+                                + "\" is not a solid law");
+  Material mat{law->second,
                s.real(m + "c10"),
                s.real(m + "k1"),
                s.real(m + "k2"),
@@ -39,7 +47,7 @@ CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
   CellFields f;
   for (const char* name : {"c10", "k1", "k2", "kappa", "youngs_modulus",
                            "poisson_ratio", "density", "is_hgo", "is_neo_hookean",
-                           "is_linear_elastic"})
+                           "is_saint_venant_kirchhoff", "is_compressible_neo_hookean"})
     f[name] = std::make_shared<Function<double>>(scalar);
   for (const char* name : {"fibre_1", "fibre_2"})
     f[name] = std::make_shared<Function<double>>(vector);
@@ -77,7 +85,10 @@ CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
     f["density"]->x()->mutable_array()[d] = m.density;
     f["is_hgo"]->x()->mutable_array()[d] = hgo;
     f["is_neo_hookean"]->x()->mutable_array()[d] = m.law == Law::neo_hookean;
-    f["is_linear_elastic"]->x()->mutable_array()[d] = m.law == Law::linear_elastic;
+    f["is_saint_venant_kirchhoff"]->x()->mutable_array()[d]
+        = m.law == Law::saint_venant_kirchhoff;
+    f["is_compressible_neo_hookean"]->x()->mutable_array()[d]
+        = m.law == Law::compressible_neo_hookean;
 
     std::array<double, 3> X{0, 0, 0};
     auto nodes = xdofs.links(c);

@@ -24,7 +24,8 @@ enum class Law : std::int32_t
 {
   hgo = 1,
   neo_hookean = 2,
-  linear_elastic = 3
+  saint_venant_kirchhoff = 3,
+  compressible_neo_hookean = 4
 };
 
 /// Parameters of one part (a volume group), read from [material.<part>].
