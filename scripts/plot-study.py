@@ -10,7 +10,12 @@ writes into STUDY_FOLDER/plots:
   row per response, on a shared axis per row;
 - pareto.png: per response, the terms' |effect| largest first, with the
   cumulative share of the explained sum of squares (factorial) or of the
-  |effects| (one factor at a time).
+  |effects| (one factor at a time);
+an ablation study (design = "ablation") instead:
+- variants.png: one panel per response, a bar per variant (the baseline
+  first, hatched, labelled with its value), each other labelled with its
+  percent difference from the baseline (its difference where the baseline
+  is 0).
 """
 import csv
 import json
@@ -123,6 +128,58 @@ def pareto(folder, out):
     save(fig, out)
 
 
+def variants(folder, out):
+    data = rows(folder, "ablation.csv")
+    analysis = json.load(open(os.path.join(folder, "analysis.json")))
+    names = [v["name"] for v in analysis["variants"]]
+    described = [v for v in analysis["variants"] if v["description"]]
+    responses = list(dict.fromkeys(d["response"] for d in data))
+    cols = min(3, len(responses))
+    nrows = -(-len(responses) // cols)
+    fig, axes = plt.subplots(nrows, cols, squeeze=False,
+                             figsize=(1.2 + (0.75 + 0.55 * len(names)) * cols, 3.2 * nrows))
+    for a, resp in enumerate(responses):
+        ax = axes[a // cols][a % cols]
+        by_name = {d["variant"]: d for d in data if d["response"] == resp}
+        values = [float(by_name[v]["value"]) if by_name[v]["value"] else np.nan for v in names]
+        colours = ["0.45"] + [f"C{i % 10}" for i in range(len(names) - 1)]
+        bars = ax.bar(range(len(names)), np.nan_to_num(values), color=colours,
+                      edgecolor="black", linewidth=0.6)
+        bars[0].set_hatch("//")
+        if np.isfinite(values[0]):
+            ax.axhline(values[0], color="0.3", lw=0.8, ls="--")
+        for i, v in enumerate(names):
+            percent = by_name[v]["percent"]
+            if not np.isfinite(values[i]):
+                label = "no value"
+            elif i == 0:
+                label = f"{values[0]:.4g}"
+            elif percent:
+                p = float(percent)
+                label = f"{p:+.1f} %" if abs(p) >= 0.1 or p == 0 else f"{p:+.1g} %"
+            else:  # a zero or missing baseline
+                label = f"{float(by_name[v]['difference']):+.3g}" if by_name[v]["difference"] else ""
+            y = values[i] if np.isfinite(values[i]) else 0.0
+            ax.annotate(label, (i, y), xytext=(0, 3 if y >= 0 else -3), textcoords="offset points",
+                        ha="center", va="bottom" if y >= 0 else "top", fontsize=7)
+        ax.set_xticks(range(len(names)), names, rotation=30, ha="right", fontsize=8)
+        unit = analysis["responses"].get(resp, {}).get("unit", "")
+        ax.set_ylabel(resp + (f" [{unit}]" if unit else ""), fontsize=8)
+        ax.margins(y=0.15)
+        ax.grid(axis="y", alpha=0.3)
+    for a in range(len(responses), nrows * cols):
+        axes[a // cols][a % cols].set_visible(False)
+    fig.suptitle(f"Variants against the baseline, {names[0]} (hatched): percent difference")
+    if described:
+        fig.text(0.01, 0.005, "\n".join(f"{v['name']}: {v['description']}" for v in described),
+                 fontsize=7, va="bottom")
+        fig.tight_layout(rect=(0, 0.04 * len(described) / nrows + 0.02, 1, 1))
+        fig.savefig(out, dpi=150)
+        plt.close(fig)
+    else:
+        save(fig, out)
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -131,10 +188,13 @@ def main():
         sys.exit(f"plot-study: {folder} has no analysis.json: run `nct study` to the end first")
     plots = os.path.join(folder, "plots")
     os.makedirs(plots, exist_ok=True)
-    correlation(folder, os.path.join(plots, "correlation.png"))
-    main_effects(folder, os.path.join(plots, "main_effects.png"))
-    pareto(folder, os.path.join(plots, "pareto.png"))
     analysis = json.load(open(os.path.join(folder, "analysis.json")))
+    if analysis["design"] == "ablation":
+        variants(folder, os.path.join(plots, "variants.png"))
+    else:
+        correlation(folder, os.path.join(plots, "correlation.png"))
+        main_effects(folder, os.path.join(plots, "main_effects.png"))
+        pareto(folder, os.path.join(plots, "pareto.png"))
     print(f"plot-study: {analysis['design']}, {analysis['cases']} cases -> {plots}")
 
 

@@ -1,11 +1,13 @@
 // The study's statistics against hand computations: 2^2 and 2^3
-// factorials worked by hand, a 2^5 with known effects, Pearson's r and
-// main-effect means. (tests/study_check.py compares a whole study's
-// tables with an independent least-squares fit.)
+// factorials worked by hand, a 2^5 with known effects, Pearson's r,
+// main-effect means and an ablation's differences from its baseline.
+// (tests/study_check.py compares a whole study's tables with an
+// independent least-squares fit.)
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
+#include <limits>
 #include <numbers>
 
 #include "scene/scene.h"
@@ -187,4 +189,95 @@ TEST(Study, Designs)
   EXPECT_EQ(o.cases[0].sets.size(), 0u);
   EXPECT_EQ(o.cases[2].sets, (std::vector<std::string>{"inflate.iop=20.0"}));
   EXPECT_EQ(o.cases[4].levels, (std::vector<int>{-1, 1}));
+}
+
+// An ablation against its baseline, worked by hand. Baseline 2: 3 is
+// +1 (+50 %), 1.5 is -0.5 (-25 %); a failed case has no value and no
+// difference. A negative baseline -4: -3 is +1, 100 * 1 / |-4| = +25 %.
+// A zero baseline has differences but no percents; a missing one has
+// neither.
+TEST(Study, CompareToBaselineByHand)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto c = nct::study::compare_to_baseline({2.0, 3.0, 1.5, nan});
+  ASSERT_EQ(c.size(), 4u);
+  EXPECT_DOUBLE_EQ(c[0].value, 2);
+  EXPECT_DOUBLE_EQ(c[0].difference, 0);
+  EXPECT_DOUBLE_EQ(c[0].percent, 0);
+  EXPECT_DOUBLE_EQ(c[1].difference, 1);
+  EXPECT_DOUBLE_EQ(c[1].percent, 50);
+  EXPECT_DOUBLE_EQ(c[2].value, 1.5);
+  EXPECT_DOUBLE_EQ(c[2].difference, -0.5);
+  EXPECT_DOUBLE_EQ(c[2].percent, -25);
+  EXPECT_TRUE(std::isnan(c[3].value));
+  EXPECT_TRUE(std::isnan(c[3].difference));
+  EXPECT_TRUE(std::isnan(c[3].percent));
+
+  auto negative = nct::study::compare_to_baseline({-4.0, -3.0, -6.0});
+  EXPECT_DOUBLE_EQ(negative[1].difference, 1);
+  EXPECT_DOUBLE_EQ(negative[1].percent, 25);
+  EXPECT_DOUBLE_EQ(negative[2].difference, -2);
+  EXPECT_DOUBLE_EQ(negative[2].percent, -50);
+
+  auto zero = nct::study::compare_to_baseline({0.0, 0.5, -0.25});
+  EXPECT_DOUBLE_EQ(zero[0].difference, 0);
+  EXPECT_DOUBLE_EQ(zero[1].difference, 0.5);
+  EXPECT_DOUBLE_EQ(zero[2].difference, -0.25);
+  for (auto& z : zero)
+    EXPECT_TRUE(std::isnan(z.percent));
+
+  // The baseline's case failed: the variants keep their values only.
+  auto no_base = nct::study::compare_to_baseline({nan, 1.0, std::numeric_limits<double>::infinity()});
+  EXPECT_DOUBLE_EQ(no_base[1].value, 1);
+  EXPECT_TRUE(std::isnan(no_base[1].difference));
+  EXPECT_TRUE(std::isnan(no_base[1].percent));
+  EXPECT_TRUE(std::isnan(no_base[2].value)); // an infinity is no value
+
+  EXPECT_THROW(nct::study::compare_to_baseline({}), std::invalid_argument);
+}
+
+// An ablation file: one case per variant in order, the study's overrides
+// first, then the variant's; the first variant is the baseline.
+TEST(Study, AblationVariants)
+{
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string scene = std::string(NCT_SOURCE_DIR) + "/scenes/default.toml";
+  std::ofstream(dir / "nct_study_ablation.toml")
+      << "[study]\nscene = \"" << scene << "\"\ndesign = \"ablation\"\n"
+      << "responses = [\"peak_distance_mm\"]\nset = [\"fem.degree=1\"]\n"
+      << "[[variant]]\nname = \"baseline\"\nset = []\n"
+      << "[[variant]]\nname = \"stiff_cornea\"\ndescription = \"C10 doubled\"\n"
+      << "set = [\"material.cornea.c10=0.1\", \"material.limbus.c10=0.1\"]\n"
+      << "[[variant]]\nname = \"constant_iop\"\nset = [\"cavity.model='constant_pressure'\"]\n";
+  auto a = nct::study::Study::load(dir / "nct_study_ablation.toml");
+  EXPECT_EQ(a.design, "ablation");
+  EXPECT_TRUE(a.factors.empty());
+  ASSERT_EQ(a.variants.size(), 3u);
+  ASSERT_EQ(a.cases.size(), 3u);
+  EXPECT_EQ(a.variants[1].name, "stiff_cornea");
+  EXPECT_EQ(a.variants[1].description, "C10 doubled");
+  EXPECT_EQ(a.cases[0].sets, (std::vector<std::string>{"fem.degree=1"}));
+  EXPECT_EQ(a.cases[1].sets,
+            (std::vector<std::string>{"fem.degree=1", "material.cornea.c10=0.1",
+                                      "material.limbus.c10=0.1"}));
+  EXPECT_EQ(a.cases[2].variant, 2);
+  EXPECT_EQ(a.cases[2].sets.back(), "cavity.model='constant_pressure'");
+
+  // A variant that sets a key to its default makes the baseline's scene.
+  std::ofstream(dir / "nct_study_ablation_same.toml")
+      << "[study]\nscene = \"" << scene << "\"\ndesign = \"ablation\"\n"
+      << "responses = [\"peak_distance_mm\"]\n"
+      << "[[variant]]\nname = \"baseline\"\n"
+      << "[[variant]]\nname = \"closed\"\nset = [\"cavity.model='closed'\"]\n";
+  try
+  {
+    nct::study::Study::load(dir / "nct_study_ablation_same.toml");
+    ADD_FAILURE() << "two variants of the same scene were accepted";
+  }
+  catch (const nct::scene::Error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("'closed' makes the same scene as 'baseline'"),
+              std::string::npos)
+        << e.what();
+  }
 }

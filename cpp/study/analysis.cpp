@@ -148,4 +148,25 @@ std::vector<double> level_means(const std::vector<double>& factor, const std::ve
   return means;
 }
 
+std::vector<Comparison> compare_to_baseline(const std::vector<double>& y)
+{
+  if (y.empty())
+    throw std::invalid_argument("compare_to_baseline: no baseline");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double base = y[0];
+  std::vector<Comparison> out;
+  for (double v : y)
+  {
+    Comparison c{std::isfinite(v) ? v : nan, nan, nan}; // an infinity is no value either
+    if (std::isfinite(v) && std::isfinite(base))
+    {
+      c.difference = v - base;
+      if (base != 0)
+        c.percent = 100 * c.difference / std::abs(base);
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
 } // namespace nct::study

@@ -1,5 +1,6 @@
 // Statistics of a study's cases: two-level factorial effects and ANOVA,
-// Pearson correlations, main effects. Pure functions of the case table.
+// Pearson correlations, main effects, an ablation's differences from its
+// baseline. Pure functions of the case table.
 #pragma once
 
 #include <string>
@@ -54,5 +55,18 @@ std::vector<std::vector<double>> pearson(const std::vector<std::vector<double>>&
 /// first appearance of the level in `levels` (main-effects plot data).
 std::vector<double> level_means(const std::vector<double>& factor, const std::vector<double>& levels,
                                 const std::vector<double>& y);
+
+/// One variant's response against the baseline's (an ablation study).
+struct Comparison
+{
+  double value;      ///< the variant's response; NaN when it gave none
+  double difference; ///< value - baseline; NaN when either is missing
+  double percent;    ///< 100 difference / |baseline|; NaN when either is missing or the
+                     ///< baseline is 0
+};
+
+/// Each variant's response y[v] against the baseline's, y[0] (NaN: the
+/// case gave no value). The baseline's own row is 0 difference, 0 %.
+std::vector<Comparison> compare_to_baseline(const std::vector<double>& y);
 
 } // namespace nct::study

@@ -110,9 +110,10 @@ void only(const toml::table& t, const std::set<std::string>& known, const fs::pa
       std::string list;
       for (auto& n : known)
         list += (list.empty() ? "" : ", ") + n;
-      const std::string table = where.empty()        ? "a study file"
-                                : where == "study." ? "[study]"
-                                                    : "[[factor]]";
+      const std::string table = where.empty()                  ? "a study file"
+                                : where == "study."           ? "[study]"
+                                : where.rfind("variant", 0) == 0 ? "[[variant]]"
+                                                              : "[[factor]]";
       throw key_error(file, where + std::string(k.str()), "unknown key; " + table + " takes "
                                                               + list);
     }
@@ -124,9 +125,11 @@ std::string case_name(std::size_t i, std::size_t n)
   return format("case-%0*zu", width, i + 1);
 }
 
-/// "C10=0.25, k1=0.005" for messages.
+/// "C10=0.25, k1=0.005" (an ablation: the variant's name) for messages.
 std::string describe_case(const Study& s, const Case& c)
 {
+  if (c.variant >= 0)
+    return s.variants[c.variant].name;
   std::string out;
   for (std::size_t i = 0; i < s.factors.size(); ++i)
     out += (i ? ", " : "") + s.factors[i].label + "="
@@ -134,85 +137,11 @@ std::string describe_case(const Study& s, const Case& c)
   return out;
 }
 
-} // namespace
-
-Study Study::load(const fs::path& file)
+/// The factors of a factorial or one-factor-at-a-time study, and its
+/// cases.
+void read_factors(const toml::table& t, Study& s)
 {
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec))
-    throw Error(file.string() + ": study file not found");
-  toml::table t;
-  try
-  {
-    t = toml::parse_file(file.string());
-  }
-  catch (const toml::parse_error& e)
-  {
-    throw Error(file.string() + format(":%u:%u: not valid TOML: ", e.source().begin.line,
-                                       e.source().begin.column)
-                + std::string(e.description()));
-  }
-  only(t, {"study", "factor"}, file, "");
-  const toml::table* st = t["study"].as_table();
-  if (!st)
-    throw key_error(file, "study", "missing: a [study] table names the scene, design and responses");
-  only(*st, {"scene", "design", "responses", "set", "ranks", "jobs", "mpiexec"}, file, "study.");
-
-  Study s;
-  s.file = file;
-  auto scene = (*st)["scene"].value<std::string>();
-  if (!scene)
-    throw key_error(file, "study.scene", "missing or not a string: the base scene file");
-  s.scene = fs::path(*scene).is_absolute() ? fs::path(*scene) : file.parent_path() / *scene;
-  if (!fs::is_regular_file(s.scene, ec))
-    throw key_error(file, "study.scene", "scene file " + s.scene.string() + " not found");
-
-  s.design = (*st)["design"].value_or<std::string>("factorial");
-  if (s.design != "factorial" && s.design != "ofat")
-    throw key_error(file, "study.design", "\"factorial\" (2^k full) or \"ofat\" (one factor "
-                                          "at a time), got \"" + s.design + "\"");
-
-  if (!(*st)["responses"])
-    throw key_error(file, "study.responses", "missing: the summary.json keys to analyse");
-  s.responses = string_list(*(*st)["responses"].node(), file, "study.responses", false);
-  if (s.responses.empty())
-    throw key_error(file, "study.responses", "name at least one response");
-  for (auto& r : s.responses)
-  {
-    auto& known = known_responses();
-    if (std::none_of(known.begin(), known.end(), [&](auto& k) { return k.first == r; }))
-    {
-      std::string list;
-      for (auto& k : known)
-        list += (list.empty() ? "" : ", ") + k.first;
-      throw key_error(file, "study.responses", "unknown response '" + r + "'; one of " + list);
-    }
-    if (std::count(s.responses.begin(), s.responses.end(), r) > 1)
-      throw key_error(file, "study.responses", "'" + r + "' is listed twice");
-  }
-
-  if (auto* set = (*st)["set"].node())
-    s.sets = string_list(*set, file, "study.set", false);
-
-  auto integer = [&](const char* key, long def, long lo, long hi)
-  {
-    const toml::node* n = (*st)[key].node();
-    if (!n)
-      return int(def);
-    auto v = n->value_exact<int64_t>();
-    if (!v || *v < lo || *v > hi)
-      throw key_error(file, std::string("study.") + key,
-                      format("an integer in [%ld, %ld], got ", lo, hi) + literal(*n));
-    return int(*v);
-  };
-  s.ranks = integer("ranks", 1, 1, 4096);
-  const long cores = std::max(1u, std::thread::hardware_concurrency());
-  s.jobs = integer("jobs", std::max(1L, cores / s.ranks), 1, 4096);
-  s.mpiexec = (*st)["mpiexec"].value_or<std::string>("mpiexec --bind-to none");
-  if (s.mpiexec.find_first_not_of(" \t") == std::string::npos)
-    throw key_error(file, "study.mpiexec", "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
-
-  // Factors
+  const fs::path& file = s.file;
   const toml::array* fs_ = t["factor"].as_array();
   if (!fs_ || fs_->empty() || !fs_->is_array_of_tables())
     throw key_error(file, "factor", "missing: one [[factor]] table per factor (key, levels)");
@@ -314,19 +243,172 @@ Study Study::load(const fs::path& file)
         }
     }
   }
+}
+
+/// The variants of an ablation study, one case each: the study's
+/// overrides, then the variant's.
+void read_variants(const toml::table& t, Study& s)
+{
+  const fs::path& file = s.file;
+  const toml::array* vs = t["variant"].as_array();
+  if (!vs)
+    throw key_error(file, "variant", "missing: one [[variant]] table per variant (name, set), "
+                                     "the first the baseline");
+  if (vs->size() < 2)
+    throw key_error(file, "variant", format("an ablation compares variants with the first, the "
+                                            "baseline: give at least 2 [[variant]] tables, got %zu",
+                                            vs->size()));
+  if (!vs->is_array_of_tables())
+    throw key_error(file, "variant", "each variant is a [[variant]] table (name, set)");
+  const std::regex name_ok("[A-Za-z0-9_.+-]+");
+  for (std::size_t i = 0; i < vs->size(); ++i)
+  {
+    const toml::table& vt = *vs->get(i)->as_table();
+    const std::string where = "variant[" + std::to_string(i + 1) + "].";
+    only(vt, {"name", "set", "description"}, file, where);
+    Variant v;
+    auto name = vt["name"].value_exact<std::string>();
+    if (!name)
+      throw key_error(file, where + "name", "missing or not a string: the variant's name (its "
+                                            "row in the tables)");
+    v.name = *name;
+    if (!std::regex_match(v.name, name_ok))
+      throw key_error(file, where + "name", "'" + v.name + "': letters, digits and _.+- only "
+                                            "(it names a CSV row)");
+    for (auto& w : s.variants)
+      if (w.name == v.name)
+        throw key_error(file, where + "name", "'" + v.name + "' names two variants");
+    if (const toml::node* d = vt["description"].node())
+    {
+      if (!d->is_string())
+        throw key_error(file, where + "description", "expected a string, got " + literal(*d));
+      v.description = *d->value<std::string>();
+      if (v.description.find_first_of("\r\n") != std::string::npos)
+        throw key_error(file, where + "description", "one line: it labels tables and plots");
+    }
+    if (const toml::node* set = vt["set"].node())
+      v.sets = string_list(*set, file, where + "set", false);
+    Case c{{}, s.sets, int(i)};
+    c.sets.insert(c.sets.end(), v.sets.begin(), v.sets.end());
+    s.cases.push_back(std::move(c));
+    s.variants.push_back(std::move(v));
+  }
+}
+
+} // namespace
+
+Study Study::load(const fs::path& file)
+{
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec))
+    throw Error(file.string() + ": study file not found");
+  toml::table t;
+  try
+  {
+    t = toml::parse_file(file.string());
+  }
+  catch (const toml::parse_error& e)
+  {
+    throw Error(file.string() + format(":%u:%u: not valid TOML: ", e.source().begin.line,
+                                       e.source().begin.column)
+                + std::string(e.description()));
+  }
+  only(t, {"study", "factor", "variant"}, file, "");
+  const toml::table* st = t["study"].as_table();
+  if (!st)
+    throw key_error(file, "study", "missing: a [study] table names the scene, design and responses");
+  only(*st, {"scene", "design", "responses", "set", "ranks", "jobs", "mpiexec"}, file, "study.");
+
+  Study s;
+  s.file = file;
+  auto scene = (*st)["scene"].value<std::string>();
+  if (!scene)
+    throw key_error(file, "study.scene", "missing or not a string: the base scene file");
+  s.scene = fs::path(*scene).is_absolute() ? fs::path(*scene) : file.parent_path() / *scene;
+  if (!fs::is_regular_file(s.scene, ec))
+    throw key_error(file, "study.scene", "scene file " + s.scene.string() + " not found");
+
+  s.design = (*st)["design"].value_or<std::string>("factorial");
+  if (s.design != "factorial" && s.design != "ofat" && s.design != "ablation")
+    throw key_error(file, "study.design", "\"factorial\" (2^k full), \"ofat\" (one factor "
+                                          "at a time) or \"ablation\" (named variants against "
+                                          "the first), got \"" + s.design + "\"");
+
+  if (!(*st)["responses"])
+    throw key_error(file, "study.responses", "missing: the summary.json keys to analyse");
+  s.responses = string_list(*(*st)["responses"].node(), file, "study.responses", false);
+  if (s.responses.empty())
+    throw key_error(file, "study.responses", "name at least one response");
+  for (auto& r : s.responses)
+  {
+    auto& known = known_responses();
+    if (std::none_of(known.begin(), known.end(), [&](auto& k) { return k.first == r; }))
+    {
+      std::string list;
+      for (auto& k : known)
+        list += (list.empty() ? "" : ", ") + k.first;
+      throw key_error(file, "study.responses", "unknown response '" + r + "'; one of " + list);
+    }
+    if (std::count(s.responses.begin(), s.responses.end(), r) > 1)
+      throw key_error(file, "study.responses", "'" + r + "' is listed twice");
+  }
+
+  if (auto* set = (*st)["set"].node())
+    s.sets = string_list(*set, file, "study.set", false);
+
+  auto integer = [&](const char* key, long def, long lo, long hi)
+  {
+    const toml::node* n = (*st)[key].node();
+    if (!n)
+      return int(def);
+    auto v = n->value_exact<int64_t>();
+    if (!v || *v < lo || *v > hi)
+      throw key_error(file, std::string("study.") + key,
+                      format("an integer in [%ld, %ld], got ", lo, hi) + literal(*n));
+    return int(*v);
+  };
+  s.ranks = integer("ranks", 1, 1, 4096);
+  const long cores = std::max(1u, std::thread::hardware_concurrency());
+  s.jobs = integer("jobs", std::max(1L, cores / s.ranks), 1, 4096);
+  s.mpiexec = (*st)["mpiexec"].value_or<std::string>("mpiexec --bind-to none");
+  if (s.mpiexec.find_first_not_of(" \t") == std::string::npos)
+    throw key_error(file, "study.mpiexec", "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
+
+  // The design's cases: factors and their levels, or named variants.
+  const bool ablation = s.design == "ablation";
+  if (ablation && t.contains("factor"))
+    throw key_error(file, "factor", "an ablation study compares [[variant]] tables and takes no "
+                                    "[[factor]]; design = \"factorial\" or \"ofat\" varies factors");
+  if (!ablation && t.contains("variant"))
+    throw key_error(file, "variant", "[[variant]] tables are the cases of design = \"ablation\"; "
+                                     "a " + s.design + " study varies [[factor]] tables");
+  if (ablation)
+    read_variants(t, s);
+  else
+    read_factors(t, s);
 
   // Every case's scene must load: unknown keys, types and ranges are
-  // caught here, before anything runs.
+  // caught here, before anything runs. Two variants whose resolved scenes
+  // agree would be the same case.
+  std::vector<std::string> resolved;
   for (std::size_t c = 0; c < s.cases.size(); ++c)
+  {
     try
     {
-      scene::Scene::load(s.scene, s.cases[c].sets);
+      resolved.push_back(scene::Scene::load(s.scene, s.cases[c].sets).to_toml());
     }
     catch (const Error& e)
     {
       throw Error(file.string() + ": " + case_name(c, s.cases.size()) + " ("
                   + describe_case(s, s.cases[c]) + "): " + e.what());
     }
+    for (std::size_t d = 0; ablation && d < c; ++d)
+      if (resolved[d] == resolved[c])
+        throw key_error(file, "variant[" + std::to_string(c + 1) + "].set",
+                        "'" + s.variants[c].name + "' makes the same scene as '"
+                            + s.variants[d].name + "' (with study.set, their overrides come to "
+                            "the same values): the two would be the same case");
+  }
   return s;
 }
 
@@ -549,6 +631,8 @@ std::string cases_csv(const Study& s, const std::vector<Result>& results)
 {
   std::ostringstream out;
   out << "case,status";
+  if (!s.variants.empty())
+    out << ",variant";
   for (auto& f : s.factors)
     out << "," << f.label;
   for (auto& r : s.responses)
@@ -557,6 +641,8 @@ std::string cases_csv(const Study& s, const std::vector<Result>& results)
   for (std::size_t c = 0; c < s.cases.size(); ++c)
   {
     out << case_name(c, s.cases.size()) << "," << results[c].status;
+    if (s.cases[c].variant >= 0)
+      out << "," << s.variants[s.cases[c].variant].name;
     for (std::size_t i = 0; i < s.factors.size(); ++i)
       out << "," << number(value(s, s.cases[c], i));
     for (double v : results[c].responses)
@@ -758,6 +844,89 @@ void analyse(const Study& s, const std::vector<Result>& results, const fs::path&
   io::write_atomic(out / "analysis.json", json.dump(2) + "\n");
 }
 
+/// A table cell: empty where there is no number.
+std::string cell(double v) { return std::isfinite(v) ? number(v) : ""; }
+
+/// An ablation's variants against its baseline into the study folder
+/// (ablation.csv, analysis.json); a table per response on stdout.
+void analyse_ablation(const Study& s, const std::vector<Result>& results, const fs::path& out)
+{
+  const std::size_t n = s.cases.size();
+  nlohmann::json json;
+  json["design"] = s.design;
+  json["cases"] = n;
+  json["baseline"] = s.variants[0].name;
+  json["difference"] = "value - the baseline's value";
+  json["percent"] = "100 difference / |the baseline's value|; null when the baseline is 0 or "
+                    "either value is missing";
+  std::size_t width = 7;
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    const Variant& v = s.variants[s.cases[c].variant];
+    width = std::max(width, v.name.size());
+    json["variants"].push_back({{"name", v.name}, {"description", v.description},
+                                {"case", case_name(c, n)}, {"status", results[c].status},
+                                {"set", v.sets}});
+  }
+
+  std::cout << "\nvariants against the baseline, " << s.variants[0].name << ":\n";
+  for (std::size_t c = 0; c < n; ++c)
+  {
+    const Variant& v = s.variants[s.cases[c].variant];
+    std::cout << format("  %-*s  %s  %s%s\n", int(width), v.name.c_str(), case_name(c, n).c_str(),
+                        results[c].status.c_str(),
+                        v.description.empty() ? "" : ("  " + v.description).c_str());
+  }
+
+  std::vector<std::vector<Comparison>> table;
+  for (std::size_t j = 0; j < s.responses.size(); ++j)
+  {
+    const std::string& name = s.responses[j];
+    std::vector<double> y;
+    for (auto& r : results)
+      y.push_back(r.responses[j]);
+    table.push_back(compare_to_baseline(y));
+    std::string unit;
+    for (auto& [key, u] : known_responses())
+      if (key == name)
+        unit = u;
+    auto& rj = json["responses"][name];
+    rj["unit"] = unit;
+    std::cout << "\n" << name << (unit.empty() ? "" : " [" + unit + "]") << "\n"
+              << format("  %-*s  %12s  %12s  %9s\n", int(width), "variant", "value", "difference",
+                        "percent");
+    for (std::size_t c = 0; c < n; ++c)
+    {
+      const Comparison& k = table[j][c];
+      const std::string& variant = s.variants[s.cases[c].variant].name;
+      rj["variants"].push_back({{"variant", variant}, {"value", json_number(k.value)},
+                                {"difference", json_number(k.difference)},
+                                {"percent", json_number(k.percent)}});
+      auto shown = [](double v, const char* spec)
+      { return std::isfinite(v) ? format(spec, v) : std::string("-"); };
+      const bool baseline = c == 0;
+      std::cout << format("  %-*s  %12s  %12s  %9s\n", int(width), variant.c_str(),
+                          shown(k.value, "%.6g").c_str(),
+                          baseline ? "(baseline)" : shown(k.difference, "%+.4g").c_str(),
+                          baseline                  ? ""
+                          : std::isfinite(k.percent) ? format("%+.2f %%", k.percent).c_str()
+                                                     : "-");
+    }
+  }
+
+  std::ostringstream csv;
+  csv << "variant,response,value,difference,percent\n";
+  for (std::size_t c = 0; c < n; ++c)
+    for (std::size_t j = 0; j < s.responses.size(); ++j)
+    {
+      const Comparison& k = table[j][c];
+      csv << s.variants[s.cases[c].variant].name << "," << s.responses[j] << "," << cell(k.value)
+          << "," << cell(k.difference) << "," << cell(k.percent) << "\n";
+    }
+  io::write_atomic(out / "ablation.csv", csv.str());
+  io::write_atomic(out / "analysis.json", json.dump(2) + "\n");
+}
+
 } // namespace
 
 int run(const Study& s, const Options& o)
@@ -793,8 +962,10 @@ int run(const Study& s, const Options& o)
     }
     todo.push_back(c);
   }
-  std::cout << "study " << s.file.string() << ": " << s.design << ", " << s.factors.size()
-            << " factor(s), " << n << " cases (" << n - todo.size() << " already done), "
+  std::cout << "study " << s.file.string() << ": " << s.design << ", "
+            << (s.variants.empty() ? format("%zu factor(s)", s.factors.size())
+                                   : format("%zu variants", s.variants.size()))
+            << ", " << n << " cases (" << n - todo.size() << " already done), "
             << jobs << " at once on " << s.ranks << " rank(s) each -> " << o.out.string()
             << std::endl;
 
@@ -837,9 +1008,14 @@ int run(const Study& s, const Options& o)
   if (o.dry_run)
   {
     for (std::size_t c = 0; c < n; ++c)
-      std::cout << "  " << case_name(c, n) << ": " << describe_case(s, s.cases[c])
+    {
+      std::string sets; // an ablation: what the variant sets
+      for (std::size_t i = 0; s.cases[c].variant >= 0 && i < s.cases[c].sets.size(); ++i)
+        sets += (i ? " " : " (") + s.cases[c].sets[i] + (i + 1 < s.cases[c].sets.size() ? "" : ")");
+      std::cout << "  " << case_name(c, n) << ": " << describe_case(s, s.cases[c]) << sets
                 << (std::find(todo.begin(), todo.end(), c) == todo.end() ? "  (done)" : "")
                 << "\n";
+    }
     std::cout << "study: every case checks out; nothing run (--dry-run)" << std::endl;
     return 0;
   }
@@ -898,14 +1074,23 @@ int run(const Study& s, const Options& o)
   }
 
   io::write_atomic(o.out / "cases.csv", cases_csv(s, results));
-  analyse(s, results, o.out);
+  if (s.design == "ablation")
+    analyse_ablation(s, results, o.out);
+  else
+    analyse(s, results, o.out);
   std::size_t converged = 0;
   for (auto& r : results)
     converged += r.status == "converged";
-  std::string tables = "cases.csv, effects.csv, ";
-  tables += s.design == "factorial" ? "anova.csv, " : "";
-  tables += "main_effects.csv, ";
-  tables += fs::exists(o.out / "correlation.csv") ? "correlation.csv, " : "";
+  std::string tables = "cases.csv, ";
+  if (s.design == "ablation")
+    tables += "ablation.csv, ";
+  else
+  {
+    tables += "effects.csv, ";
+    tables += s.design == "factorial" ? "anova.csv, " : "";
+    tables += "main_effects.csv, ";
+    tables += fs::exists(o.out / "correlation.csv") ? "correlation.csv, " : "";
+  }
   std::cout << "\nstudy: " << converged << " of " << n << " cases converged; tables in "
             << o.out.string() << " (" << tables << "analysis.json); plots: /usr/bin/python3 "
             << "scripts/plot-study.py " << o.out.string() << std::endl;

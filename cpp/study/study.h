@@ -1,5 +1,6 @@
-// Studies: a base scene run over a design of factor levels, every case in
-// its own run folder, then one table and its statistics.
+// Studies: a base scene run over a design of factor levels (or a list of
+// named variants), every case in its own run folder, then one table and
+// its statistics.
 #pragma once
 
 #include <filesystem>
@@ -18,11 +19,21 @@ struct Factor
   std::vector<double> values;     ///< each level's number (a string level: its index)
 };
 
+/// An ablation variant: named overrides of the base scene.
+struct Variant
+{
+  std::string name;              ///< its row in the tables
+  std::string description;       ///< one line for tables and plots (may be empty)
+  std::vector<std::string> sets; ///< its own overrides, after the study's
+};
+
 /// One case: the overrides it adds to the base scene.
 struct Case
 {
   std::vector<int> levels;       ///< per factor, the level's index; -1: the scene's value
+                                 ///< (empty in an ablation)
   std::vector<std::string> sets; ///< section.key=value, the study's own first
+  int variant = -1;              ///< ablation: the variant's index
 };
 
 /// A validated study file (README "Studies").
@@ -30,15 +41,17 @@ struct Study
 {
   std::filesystem::path file;  ///< the study file
   std::filesystem::path scene; ///< the base scene (relative to the study file)
-  std::string design;          ///< "factorial" (2^k full) or "ofat"
+  std::string design;          ///< "factorial" (2^k full), "ofat" or "ablation"
   std::vector<std::string> sets; ///< overrides of every case
-  std::vector<Factor> factors;
+  std::vector<Factor> factors;   ///< factorial and ofat
+  std::vector<Variant> variants; ///< ablation: the first is the baseline
   std::vector<std::string> responses; ///< summary.json keys
   int ranks; ///< MPI ranks per case
   int jobs;  ///< cases at once
   std::string mpiexec; ///< launcher of cases with ranks > 1 ("-n ranks" is appended)
   std::vector<Case> cases; ///< factorial: Yates order (the first factor changes fastest);
-                           ///< ofat: the base scene, then each factor's levels in turn
+                           ///< ofat: the base scene, then each factor's levels in turn;
+                           ///< ablation: one per variant, in order
   std::vector<double> base_values; ///< ofat: each factor's value in the base scene
 
   /// Read and validate a study file (and every case's scene keys). Throws
@@ -61,7 +74,8 @@ struct Options
 
 /// Run (or resume) every case of a study in out/cases/case-NNN, then
 /// write out/cases.csv and the analysis (out/effects.csv, anova.csv,
-/// main_effects.csv, correlation.csv, analysis.json). Cases with a
+/// main_effects.csv, correlation.csv; an ablation: out/ablation.csv; and
+/// analysis.json). Cases with a
 /// summary.json from the same overrides are kept. Returns the exit code:
 /// 0 when every case converged, 3 when some failed (the analysis covers
 /// the responses every case gave), 130 when interrupted (run it again to
