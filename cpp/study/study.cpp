@@ -46,7 +46,9 @@ const std::vector<std::pair<std::string, std::string>>& known_responses()
       {"a2_time_ms", "ms"},               {"a2_length_mm", "mm"},
       {"a2_velocity_m_s", "m/s"},         {"apex_pressure_hc_mmHg", "mmHg"},
       {"apex_pressure_max_mmHg", "mmHg"}, {"iop_max_mmHg", "mmHg"},
-      {"iop_hc_mmHg", "mmHg"},            {"newton_iterations", ""},
+      {"iop_hc_mmHg", "mmHg"},            {"cavity_pressure_max_mmHg", "mmHg"},
+      {"aqueous_pressure_max_mmHg", "mmHg"}, {"vitreous_pressure_max_mmHg", "mmHg"},
+      {"newton_iterations", ""},
       {"step_cuts", ""},                  {"wall_s", "s"}};
   return list;
 }
@@ -198,7 +200,7 @@ void read_factors(const toml::table& t, Study& s)
   // Cases
   auto sets_of = [&](const std::vector<int>& levels)
   {
-    Case c{levels, s.sets};
+    Case c{levels, s.sets, -1, s.scene};
     for (std::size_t i = 0; i < k; ++i)
       if (levels[i] >= 0)
         for (auto& key : s.factors[i].keys)
@@ -265,7 +267,7 @@ void read_variants(const toml::table& t, Study& s)
   {
     const toml::table& vt = *vs->get(i)->as_table();
     const std::string where = "variant[" + std::to_string(i + 1) + "].";
-    only(vt, {"name", "set", "description"}, file, where);
+    only(vt, {"name", "scene", "set", "description"}, file, where);
     Variant v;
     auto name = vt["name"].value_exact<std::string>();
     if (!name)
@@ -286,9 +288,21 @@ void read_variants(const toml::table& t, Study& s)
       if (v.description.find_first_of("\r\n") != std::string::npos)
         throw key_error(file, where + "description", "one line: it labels tables and plots");
     }
+    v.scene = s.scene;
+    if (const toml::node* sc = vt["scene"].node())
+    {
+      auto path = sc->value_exact<std::string>();
+      if (!path)
+        throw key_error(file, where + "scene", "expected a string (a scene file relative to the "
+                                               "study file), got " + literal(*sc));
+      v.scene = fs::path(*path).is_absolute() ? fs::path(*path) : file.parent_path() / *path;
+      std::error_code ec;
+      if (!fs::is_regular_file(v.scene, ec))
+        throw key_error(file, where + "scene", "scene file " + v.scene.string() + " not found");
+    }
     if (const toml::node* set = vt["set"].node())
       v.sets = string_list(*set, file, where + "set", false);
-    Case c{{}, s.sets, int(i)};
+    Case c{{}, s.sets, int(i), v.scene};
     c.sets.insert(c.sets.end(), v.sets.begin(), v.sets.end());
     s.cases.push_back(std::move(c));
     s.variants.push_back(std::move(v));
@@ -395,7 +409,7 @@ Study Study::load(const fs::path& file)
   {
     try
     {
-      resolved.push_back(scene::Scene::load(s.scene, s.cases[c].sets).to_toml());
+      resolved.push_back(scene::Scene::load(s.cases[c].scene, s.cases[c].sets).to_toml());
     }
     catch (const Error& e)
     {
@@ -559,7 +573,7 @@ std::vector<std::string> command(const Study& s, const Options& o, const Case& c
   }
   argv.push_back(o.program.string());
   argv.push_back(verb);
-  argv.push_back(fs::absolute(s.scene).string());
+  argv.push_back(fs::absolute(c.scene).string());
   for (auto& set : c.sets)
   {
     argv.push_back("--set");
@@ -950,7 +964,9 @@ int run(const Study& s, const Options& o)
     if (fs::exists(dir / "case.json"))
     {
       auto recorded = nlohmann::json::parse(read_text(dir / "case.json"));
-      if (recorded.value("sets", std::vector<std::string>{}) != s.cases[c].sets)
+      if (recorded.value("sets", std::vector<std::string>{}) != s.cases[c].sets
+          || recorded.value("scene", fs::absolute(s.scene).string())
+                 != fs::absolute(s.cases[c].scene).string())
         throw Error(s.file.string() + ": " + o.out.string() + " holds another study ("
                     + case_name(c, n) + " was run with other keys); give a new --out or "
                     "remove it");
@@ -1028,7 +1044,9 @@ int run(const Study& s, const Options& o)
     fs::remove_all(dir); // an interrupted case starts afresh
     fs::create_directories(dir);
     io::write_atomic(dir / "case.json",
-                     nlohmann::json{{"case", case_name(c, n)}, {"sets", s.cases[c].sets}}.dump(2)
+                     nlohmann::json{{"case", case_name(c, n)},
+                                    {"scene", fs::absolute(s.cases[c].scene).string()},
+                                    {"sets", s.cases[c].sets}}.dump(2)
                          + "\n");
     runs.push_back({command(s, o, s.cases[c], "run", dir), dir / "console.log"});
   }

@@ -24,6 +24,7 @@ struct Variant
 {
   std::string name;              ///< its row in the tables
   std::string description;       ///< one line for tables and plots (may be empty)
+  std::filesystem::path scene;   ///< its scene: study.scene unless it names its own
   std::vector<std::string> sets; ///< its own overrides, after the study's
 };
 
@@ -34,6 +35,7 @@ struct Case
                                  ///< (empty in an ablation)
   std::vector<std::string> sets; ///< section.key=value, the study's own first
   int variant = -1;              ///< ablation: the variant's index
+  std::filesystem::path scene;   ///< the scene it overrides (the study's, or its variant's)
 };
 
 /// A validated study file (README "Studies").
