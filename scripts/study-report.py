@@ -4,7 +4,9 @@
     /usr/bin/python3 scripts/study-report.py STUDY_FOLDER [TERMS]
 
 prints, per response, the TERMS (default 8) largest effects with their
-share of the sum of squares and p (factorial), then the cases' wall time.
+share of the sum of squares and p (factorial), then the cases' wall time;
+for an ablation, one table: per response, each variant's value and its
+difference from the baseline (absolute and in percent).
 """
 import csv
 import json
@@ -19,6 +21,41 @@ anova = {}
 if os.path.exists(os.path.join(folder, "anova.csv")):
     for a in csv.DictReader(open(os.path.join(folder, "anova.csv"))):
         anova[a["response"], a["source"]] = a
+
+
+def ablation_table():
+    """Responses down, variants across: the baseline's value, then each
+    other variant's value, difference and percent."""
+    names = [v["name"] for v in analysis["variants"]]
+    head = f"| response | {names[0]} |"
+    rule = "|---|---|"
+    for n in names[1:]:
+        head += f" {n} | difference | % |"
+        rule += "---|---|---|"
+    print(head + "\n" + rule)
+    fmt = lambda v, sign="": "-" if v is None else f"{v:{sign}.4g}"
+    for name in [c for c in cases[0] if c in analysis["responses"]]:  # the study's order
+        r = analysis["responses"][name]
+        row = {v["variant"]: v for v in r["variants"]}
+        unit = f" [{r['unit']}]" if r["unit"] else ""
+        line = f"| {name}{unit} | {fmt(row[names[0]]['value'])} |"
+        for n in names[1:]:
+            v = row[n]
+            pct = "-" if v["percent"] is None else f"{v['percent']:+.1f}"
+            line += f" {fmt(v['value'])} | {fmt(v['difference'], '+')} | {pct} |"
+        print(line)
+    print()
+    for v in analysis["variants"]:
+        print(f"- `{v['name']}`: {v.get('description', '')}")
+    print()
+
+
+if analysis["design"] == "ablation":
+    ablation_table()
+    walls = [float(c["wall_s"]) for c in cases if c["wall_s"] != "nan"]
+    print(f"{[c['status'] for c in cases].count('converged')} of {len(cases)} converged; "
+          f"wall time per case {min(walls):.0f} to {max(walls):.0f} s")
+    sys.exit(0)
 print(f"{analysis['design']}, {analysis['cases']} cases; error term: {analysis['error_term']}\n")
 for name in [c for c in cases[0] if c in analysis["responses"]]:  # the study's order
     r = analysis["responses"][name]
