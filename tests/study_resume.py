@@ -14,10 +14,11 @@ import glob
 import json
 import os
 import shutil
-import signal
 import subprocess
 import sys
 import time
+
+from study_interrupt import interrupt_after_first_case
 
 nct, study, out = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(out, ignore_errors=True)
@@ -45,18 +46,7 @@ def left_behind():
 
 
 # 1. Interrupt once a case has finished.
-p = subprocess.Popen([nct, "study", study, "--out", out], stdout=subprocess.PIPE,
-                     stderr=subprocess.STDOUT, text=True)
-deadline = time.time() + 600
-while not glob.glob(os.path.join(out, "cases", "*", "summary.json")):
-    assert p.poll() is None, "the study ended before it could be interrupted"
-    assert time.time() < deadline, "no case finished in 600 s"
-    time.sleep(0.2)
-p.send_signal(signal.SIGINT)
-text, _ = p.communicate(timeout=120)
-print(text)
-assert p.returncode == 130, f"interrupted: exit {p.returncode}, expected 130"
-assert "the same command resumes it" in text
+interrupt_after_first_case(nct, study, out)
 time.sleep(0.5)
 assert not left_behind(), f"processes left running: {left_behind()}"
 done = {f: os.stat(f).st_mtime_ns for f in glob.glob(os.path.join(out, "cases", "*", "summary.json"))}
