@@ -82,6 +82,31 @@ std::string literal(const toml::node& v)
   return out.str();
 }
 
+/// A name that labels a CSV column or row: letters, digits and _.+- only.
+void check_name(const fs::path& file, const std::string& key, const std::string& name,
+                const std::string& labels)
+{
+  static const std::regex ok("[A-Za-z0-9_.+-]+");
+  if (!std::regex_match(name, ok))
+    throw key_error(file, key, "'" + name + "': letters, digits and _.+- only (it names "
+                                   + labels + ")");
+}
+
+/// A scene file named at `key`, relative to the study file; it must exist.
+fs::path scene_path(const fs::path& file, const std::string& key, const toml::node* node)
+{
+  auto path = node ? node->value_exact<std::string>() : std::nullopt;
+  if (!path)
+    throw key_error(file, key, node ? "expected a string (a scene file relative to the study "
+                                      "file), got " + literal(*node)
+                                    : std::string("missing or not a string: the base scene file"));
+  fs::path scene = fs::path(*path).is_absolute() ? fs::path(*path) : file.parent_path() / *path;
+  std::error_code ec;
+  if (!fs::is_regular_file(scene, ec))
+    throw key_error(file, key, "scene file " + scene.string() + " not found");
+  return scene;
+}
+
 /// An array of strings, or one string taken as an array of one.
 std::vector<std::string> string_list(const toml::node& v, const fs::path& file,
                                      const std::string& key, bool one_allowed)
@@ -147,7 +172,6 @@ void read_factors(const toml::table& t, Study& s)
   const toml::array* fs_ = t["factor"].as_array();
   if (!fs_ || fs_->empty() || !fs_->is_array_of_tables())
     throw key_error(file, "factor", "missing: one [[factor]] table per factor (key, levels)");
-  const std::regex label_ok("[A-Za-z0-9_.+-]+");
   for (std::size_t i = 0; i < fs_->size(); ++i)
   {
     const toml::table& ft = *fs_->get(i)->as_table();
@@ -160,9 +184,7 @@ void read_factors(const toml::table& t, Study& s)
     if (f.keys.empty())
       throw key_error(file, where + "key", "name at least one scene key");
     f.label = ft["label"].value_or(std::string(f.keys[0]));
-    if (!std::regex_match(f.label, label_ok))
-      throw key_error(file, where + "label", "'" + f.label + "': letters, digits and _.+- only "
-                                              "(it names a CSV column)");
+    check_name(file, where + "label", f.label, "a CSV column");
     for (auto& g : s.factors)
       if (g.label == f.label)
         throw key_error(file, where + "label", "'" + f.label + "' names two factors");
@@ -262,7 +284,6 @@ void read_variants(const toml::table& t, Study& s)
                                             vs->size()));
   if (!vs->is_array_of_tables())
     throw key_error(file, "variant", "each variant is a [[variant]] table (name, set)");
-  const std::regex name_ok("[A-Za-z0-9_.+-]+");
   for (std::size_t i = 0; i < vs->size(); ++i)
   {
     const toml::table& vt = *vs->get(i)->as_table();
@@ -274,9 +295,7 @@ void read_variants(const toml::table& t, Study& s)
       throw key_error(file, where + "name", "missing or not a string: the variant's name (its "
                                             "row in the tables)");
     v.name = *name;
-    if (!std::regex_match(v.name, name_ok))
-      throw key_error(file, where + "name", "'" + v.name + "': letters, digits and _.+- only "
-                                            "(it names a CSV row)");
+    check_name(file, where + "name", v.name, "a CSV row");
     for (auto& w : s.variants)
       if (w.name == v.name)
         throw key_error(file, where + "name", "'" + v.name + "' names two variants");
@@ -288,18 +307,7 @@ void read_variants(const toml::table& t, Study& s)
       if (v.description.find_first_of("\r\n") != std::string::npos)
         throw key_error(file, where + "description", "one line: it labels tables and plots");
     }
-    v.scene = s.scene;
-    if (const toml::node* sc = vt["scene"].node())
-    {
-      auto path = sc->value_exact<std::string>();
-      if (!path)
-        throw key_error(file, where + "scene", "expected a string (a scene file relative to the "
-                                               "study file), got " + literal(*sc));
-      v.scene = fs::path(*path).is_absolute() ? fs::path(*path) : file.parent_path() / *path;
-      std::error_code ec;
-      if (!fs::is_regular_file(v.scene, ec))
-        throw key_error(file, where + "scene", "scene file " + v.scene.string() + " not found");
-    }
+    v.scene = vt["scene"] ? scene_path(file, where + "scene", vt["scene"].node()) : s.scene;
     if (const toml::node* set = vt["set"].node())
       v.sets = string_list(*set, file, where + "set", false);
     Case c{{}, s.sets, int(i), v.scene};
@@ -335,12 +343,8 @@ Study Study::load(const fs::path& file)
 
   Study s;
   s.file = file;
-  auto scene = (*st)["scene"].value<std::string>();
-  if (!scene)
-    throw key_error(file, "study.scene", "missing or not a string: the base scene file");
-  s.scene = fs::path(*scene).is_absolute() ? fs::path(*scene) : file.parent_path() / *scene;
-  if (!fs::is_regular_file(s.scene, ec))
-    throw key_error(file, "study.scene", "scene file " + s.scene.string() + " not found");
+  const toml::node* scene = (*st)["scene"].node();
+  s.scene = scene_path(file, "study.scene", scene && scene->is_string() ? scene : nullptr);
 
   s.design = (*st)["design"].value_or<std::string>("factorial");
   if (s.design != "factorial" && s.design != "ofat" && s.design != "ablation")
