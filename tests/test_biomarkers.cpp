@@ -1,5 +1,6 @@
 // Biomarker extraction on synthetic profiles with known answers.
 #include <cmath>
+#include <functional>
 #include <gtest/gtest.h>
 
 #include "biomarkers/biomarkers.h"
@@ -76,28 +77,83 @@ TEST(Biomarkers, ApexCurvatureAndCrossings)
   EXPECT_NEAR(up[0], 2 * M_PI, 1e-5);
 }
 
+// y = 2 + b x^2 is fitted exactly: the concave radius is 1 / (2 b); a
+// convex or flat apex has none.
+TEST(Biomarkers, ConcaveRadius)
+{
+  auto concave = sample(0.05, [](double x) { return 2.0 + 0.04 * x * x; }, 0.013);
+  const auto radius = nct::biomarkers::concave_radius(concave, 1.5);
+  ASSERT_TRUE(radius);
+  EXPECT_NEAR(*radius, 12.5, 1e-9); // least squares of an exact parabola: round-off only
+  auto convex = sample(0.05, [](double x) { return 2.0 - 0.064 * x * x; }, 0.013);
+  EXPECT_FALSE(nct::biomarkers::concave_radius(convex, 1.5));
+  auto flat = sample(0.05, [](double) { return 2.0; }, 0.013);
+  EXPECT_FALSE(nct::biomarkers::concave_radius(flat, 1.5));
+}
+
+// A cornea of radius 7.8 mm pushed in by D0 exp(-x^2 / (2 w^2)), its nodes
+// moved sideways (sampled 0.011 mm off the rest's columns): the DA ratio at
+// d is exp(d^2 / (2 w^2)).
+TEST(Biomarkers, DaRatio)
+{
+  const double R = 7.8, D0 = 1.0, w = 1.5, h = 0.02;
+  auto cornea = [&](double x) { return -x * x / (2 * R); };
+  auto rest = sample(h, cornea, 0.007);
+  auto dent = [&](double x) { return D0 * std::exp(-x * x / (2 * w * w)); };
+  auto pushed = sample(h, [&](double x) { return cornea(x) - dent(x); }, 0.007 + 0.011);
+  for (double d : {1.0, 2.0})
+  {
+    const auto ratio = nct::biomarkers::da_ratio(rest, pushed, d);
+    ASSERT_TRUE(ratio);
+    const double exact = std::exp(d * d / (2 * w * w));
+    // Each height read between samples errs by at most h^2/8 |y''|: 1/R
+    // at rest, 1/R + D0/w^2 pushed; the deformations by the sum, e, and
+    // the ratio by e (1 + ratio) / (the flanks' deformation).
+    const double e = h * h / 8 * (2 / R + D0 / (w * w));
+    const double flank = dent(d);
+    std::printf("DA ratio at %.0f mm: %.6f (exact %.6f, bound %.1e)\n", d, *ratio, exact,
+                e * (1 + exact) / flank);
+    EXPECT_NEAR(*ratio, exact, e * (1 + exact) / flank);
+  }
+  // No deformation of the flanks: no ratio.
+  EXPECT_FALSE(nct::biomarkers::da_ratio(rest, rest, 1.0));
+}
+
+// SP-A1 = (the apex air pressure at A1 - the IOP at rest) / the deflection at A1.
+TEST(Biomarkers, StiffnessParameterA1)
+{
+  const auto sp = nct::biomarkers::stiffness_parameter_a1(95.0, 15.0, 0.25);
+  ASSERT_TRUE(sp);
+  EXPECT_DOUBLE_EQ(*sp, 320.0);
+  EXPECT_FALSE(nct::biomarkers::stiffness_parameter_a1(95.0, 15.0, 0.0));
+  EXPECT_FALSE(nct::biomarkers::stiffness_parameter_a1(95.0, 15.0, -0.1));
+}
+
 // A synthetic puff with known biomarkers: apex u(t) = -A sin(pi t / T),
-// whole-eye motion -B sin(pi t / T), and a profile that is exactly
-// y = u + b(t) x^2 near the axis (|x| <= h) and falls as -c (|x| - h)^4
-// beyond, with b(t) = -b0 + (b0 + b1) sin(pi t / T): applanation where
-// b = 0, at t1 = T / pi asin(b0 / (b0 + b1)) and T - t1.
+// whole-eye motion w(t) = -B sin(pi (t - t0) / T2) from t0 on, and a
+// profile that is exactly y = u + b(t) x^2 near the axis (|x| <= h) and
+// falls as -c (|x| - h)^4 beyond, with b(t) = -b0 + (b0 + b1) sin(pi t / T):
+// applanation where b = 0, at t1 = T / pi asin(b0 / (b0 + b1)) and T - t1.
 TEST(Biomarkers, SyntheticPuff)
 {
-  const double T = 20, A = 1.1, B = 0.1, b0 = 0.08, b1 = 0.3, h = 0.5, c = 0.02;
+  const double T = 20, A = 1.1, B = 0.1, t0 = 1, T2 = 24, b0 = 0.08, b1 = 0.3, h = 0.5,
+               c = 0.02;
   const double tol = 0.01, dt = 1.0 / 4.33; // Corvis: 4330 frames/s
+  const double radius_window = 0.45;        // within |x| <= h: the fits are exact
   auto b = [&](double t) { return -b0 + (b0 + b1) * std::sin(M_PI * t / T); };
+  auto u = [&](double t) { return -A * std::sin(M_PI * t / T); };
+  auto whole_eye = [&](double t) { return -B * std::sin(M_PI * std::max(t - t0, 0.0) / T2); };
   std::vector<double> t, apex, whole;
   std::vector<Profile> profiles;
   for (double s = 0; s <= T; s += dt)
   {
-    const double u = -A * std::sin(M_PI * s / T);
-    t.push_back(s), apex.push_back(u), whole.push_back(-B * std::sin(M_PI * s / T));
+    t.push_back(s), apex.push_back(u(s)), whole.push_back(whole_eye(s));
     profiles.push_back(sample(0.02, [&](double x)
-                              { return u + b(s) * std::min(x * x, h * h)
+                              { return u(s) + b(s) * std::min(x * x, h * h)
                                        + 2 * b(s) * h * std::max(std::abs(x) - h, 0.0)
                                        + plateau(x, h, c, 4); }, 0.007));
   }
-  const auto r = nct::biomarkers::analyse(t, profiles, apex, whole, 0.4, tol);
+  const auto r = nct::biomarkers::analyse(t, profiles, apex, whole, 0.4, radius_window, tol);
   const double t1 = T / M_PI * std::asin(b0 / (b0 + b1));
   std::printf("HC %.4f ms (exact %.4f), DA %.5f, deflection %.5f; A1 %.4f ms (exact %.4f), "
               "length %.4f mm, velocity %.5f; A2 %.4f ms (exact %.4f), velocity %.5f; "
@@ -108,7 +164,7 @@ TEST(Biomarkers, SyntheticPuff)
   ASSERT_TRUE(r.applanated);
   EXPECT_NEAR(r.hc_time, T / 2, 1e-3);
   EXPECT_NEAR(r.deformation_amplitude, A, 1e-4);
-  EXPECT_NEAR(r.deflection_amplitude, A - B, 1e-4);
+  EXPECT_NEAR(r.deflection_amplitude, A + whole_eye(T / 2), 1e-4);
   EXPECT_NEAR(r.a1.time, t1, 2e-3);
   EXPECT_NEAR(r.a2.time, T - t1, 2e-3);
   // At applanation the centre is exactly flat: the tolerance is reached
@@ -123,4 +179,93 @@ TEST(Biomarkers, SyntheticPuff)
   // (x - h)^3 vanishes.
   const double hump = h + std::cbrt(2 * b(T / 2) * h / (4 * c));
   EXPECT_NEAR(r.peak_distance, 2 * hump, 0.02);
+
+  // The intervals, within the A1, A2 and HC tolerances above.
+  EXPECT_NEAR(r.a1_a2_interval(), T - 2 * t1, 4e-3);
+  EXPECT_NEAR(r.a1_hc_interval(), T / 2 - t1, 3e-3);
+  // The deflection at the A1 and A2 found: u and w linear between frames
+  // err by at most dt^2/8 |u'' - w''|.
+  const double linear = dt * dt / 8 * (A * std::pow(M_PI / T, 2) + B * std::pow(M_PI / T2, 2));
+  for (const auto* a : {&r.a1, &r.a2})
+  {
+    std::printf("deflection at %.4f ms: %.6f mm (exact %.6f)\n", a->time, a->deflection,
+                whole_eye(a->time) - u(a->time));
+    EXPECT_NEAR(a->deflection, whole_eye(a->time) - u(a->time), linear);
+  }
+
+  // HC radius 1 / (2 b(T/2)) = 1 / (2 b1): b read linearly between frames
+  // errs by at most dt^2/8 |b''|, the radius by that over 2 b1^2.
+  const double db = dt * dt / 8 * (b0 + b1) * std::pow(M_PI / T, 2);
+  ASSERT_TRUE(r.hc_radius);
+  std::printf("HC radius %.6f mm (exact %.6f, bound %.1e)\n", *r.hc_radius, 1 / (2 * b1),
+              db / (2 * b1 * b1));
+  EXPECT_NEAR(*r.hc_radius, 1 / (2 * b1), db / (2 * b1 * b1));
+  // The largest 2 b(t) of the frames, 2 b1 at T/2: the nearest frame, at
+  // most dt/2 away, falls short by at most (b0 + b1) (pi dt / (2 T))^2.
+  const double off_peak = (b0 + b1) * std::pow(M_PI * dt / (2 * T), 2);
+  std::printf("max inverse radius %.6f /mm (exact %.6f, bound %.1e)\n", r.max_inverse_radius,
+              2 * b1, off_peak);
+  EXPECT_LE(r.max_inverse_radius, 2 * b1 + 1e-12);
+  EXPECT_GE(r.max_inverse_radius, 2 * b1 - off_peak);
+  // The integral of 2 b(t) from t1 to T - t1:
+  // 2 (-b0 (T - 2 t1) + (b0 + b1) 2 T / pi cos(pi t1 / T)). A trapezoid of
+  // width h <= dt errs by at most h^3/12 max |f''|, f'' = -2 (b0 + b1) (pi / T)^2
+  // sin(pi t / T): in all at most dt^2/12 (T - 2 t1) 2 (b0 + b1) (pi / T)^2.
+  const double integral = 2 * (-b0 * (T - 2 * t1) + (b0 + b1) * 2 * T / M_PI
+                                                        * std::cos(M_PI * t1 / T));
+  const double trapezoids = dt * dt / 12 * (T - 2 * t1) * 2 * (b0 + b1) * std::pow(M_PI / T, 2);
+  ASSERT_TRUE(r.integrated_inverse_radius);
+  std::printf("integrated inverse radius %.9f ms/mm (exact %.9f, bound %.4e)\n",
+              *r.integrated_inverse_radius, integral, trapezoids);
+  EXPECT_NEAR(*r.integrated_inverse_radius, integral, trapezoids);
+
+  // The deformation y(x, 0) - y(x, t) is sin(pi t / T) (A - (b0 + b1) g(x))
+  // with g = x^2 for |x| <= h, h^2 + 2 h (|x| - h) beyond: a constant ratio
+  // A / (A - (b0 + b1) g(d)), g linear at 1 and 2 mm. On the axis the
+  // samples at -0.013 and 0.007 mm read g(0) as at most 0.02^2 / 4.
+  for (auto [d, ratio] : {std::pair{1.0, r.da_ratio_1mm}, {2.0, r.da_ratio_2mm}})
+  {
+    const double flank = A - (b0 + b1) * (h * h + 2 * h * (d - h));
+    ASSERT_TRUE(ratio);
+    std::printf("DA ratio %.0f mm %.6f (exact %.6f)\n", d, *ratio, A / flank);
+    EXPECT_NEAR(*ratio, A / flank, (b0 + b1) * 0.02 * 0.02 / 4 / flank);
+  }
+
+  // The whole eye's deepest, B at t0 + T2 / 2: the parabola through three
+  // samples of a sine B cos(omega s) misplaces its vertex by at most
+  // omega^2 dt^3 / (36 sqrt 3) and lowers it by at most 3 B (omega dt)^4 / 128,
+  // to leading order in omega dt (0.03): the next is (omega dt)^2 smaller.
+  const double omega = M_PI / T2;
+  ASSERT_TRUE(r.whole_eye_movement_time);
+  std::printf("whole-eye movement %.12f mm at %.9f ms (exact %.12f at %.9f)\n",
+              r.whole_eye_movement_max, *r.whole_eye_movement_time, B, t0 + T2 / 2);
+  EXPECT_NEAR(r.whole_eye_movement_max, B,
+              3 * B * std::pow(omega * dt, 4) / 128 * (1 + std::pow(omega * dt, 2)));
+  EXPECT_NEAR(*r.whole_eye_movement_time, t0 + T2 / 2,
+              omega * omega * std::pow(dt, 3) / (36 * std::sqrt(3.0))
+                  * (1 + std::pow(omega * dt, 2)));
+}
+
+// A stiff cornea that only flattens (b stays negative) while the eye moves
+// outwards: no applanation, no concavity, no inward whole-eye motion.
+TEST(Biomarkers, StiffPuff)
+{
+  const double T = 20, A = 0.3, B = 0.05, b0 = 0.08, dt = 1.0 / 4.33;
+  std::vector<double> t, apex, whole;
+  std::vector<Profile> profiles;
+  for (double s = 0; s <= T; s += dt)
+  {
+    const double u = -A * std::sin(M_PI * s / T), b = -b0 + 0.5 * b0 * std::sin(M_PI * s / T);
+    t.push_back(s), apex.push_back(u), whole.push_back(B * std::sin(M_PI * s / T));
+    profiles.push_back(sample(0.02, [&](double x) { return u + b * x * x; }, 0.007));
+  }
+  const auto r = nct::biomarkers::analyse(t, profiles, apex, whole, 0.4, 1.5, 0.01);
+  EXPECT_FALSE(r.applanated);
+  EXPECT_FALSE(r.hc_radius);
+  EXPECT_EQ(r.max_inverse_radius, 0.0);
+  EXPECT_FALSE(r.integrated_inverse_radius);
+  EXPECT_FALSE(r.da_ratio_1mm);
+  EXPECT_FALSE(r.da_ratio_2mm);
+  EXPECT_EQ(r.whole_eye_movement_max, 0.0);
+  EXPECT_FALSE(r.whole_eye_movement_time);
 }

@@ -59,6 +59,35 @@ double highest(const Profile& p, bool (*keep)(double))
   return vertex(p.x, p.y, best).first;
 }
 
+/// The profile at `time`: each sample linear in time between the neighbouring frames.
+Profile profile_at(const std::vector<double>& t, const std::vector<Profile>& frames, double time)
+{
+  const std::size_t i = interval(t, time);
+  const double s = (time - t[i]) / (t[i + 1] - t[i]);
+  Profile p = frames[i];
+  for (std::size_t k = 0; k < p.x.size(); ++k)
+  {
+    p.x[k] = (1 - s) * frames[i].x[k] + s * frames[i + 1].x[k];
+    p.y[k] = (1 - s) * frames[i].y[k] + s * frames[i + 1].y[k];
+  }
+  return p;
+}
+
+/// Integral of f over [from, to]: trapezoids over the samples inside,
+/// with f at the ends given.
+double integral(const std::vector<double>& t, const std::vector<double>& f, double from,
+                double f_from, double to, double f_to)
+{
+  double sum = 0, t0 = from, f0 = f_from;
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (t[i] > from && t[i] < to)
+    {
+      sum += 0.5 * (f0 + f[i]) * (t[i] - t0);
+      t0 = t[i], f0 = f[i];
+    }
+  return sum + 0.5 * (f0 + f_to) * (to - t0);
+}
+
 } // namespace
 
 double height(const Profile& p, double x) { return interpolate(p.x, p.y, x); }
@@ -114,6 +143,30 @@ double apex_curvature(const Profile& p, double half_width)
   return (n * SY - S * Y) / det;
 }
 
+std::optional<double> concave_radius(const Profile& p, double half_width)
+{
+  const double b = apex_curvature(p, half_width);
+  if (b <= 0)
+    return std::nullopt;
+  return 1 / (2 * b);
+}
+
+std::optional<double> da_ratio(const Profile& rest, const Profile& p, double d)
+{
+  auto deformation = [&](double x) { return height(rest, x) - height(p, x); };
+  const double flank = 0.5 * (deformation(d) + deformation(-d));
+  if (flank <= 0)
+    return std::nullopt;
+  return deformation(0.0) / flank;
+}
+
+std::optional<double> stiffness_parameter_a1(double pressure, double iop, double deflection)
+{
+  if (deflection <= 0)
+    return std::nullopt;
+  return (pressure - iop) / deflection;
+}
+
 std::vector<double> crossings(const std::vector<double>& t, const std::vector<double>& f,
                               bool upward)
 {
@@ -135,7 +188,7 @@ double at_time(const std::vector<double>& t, const std::vector<double>& f, doubl
 Result analyse(const std::vector<double>& t, const std::vector<Profile>& anterior,
                const std::vector<double>& apex_displacement,
                const std::vector<double>& whole_eye_motion, double half_width,
-               double flatness)
+               double radius_window, double flatness)
 {
   const std::size_t n = t.size();
   if (n < 3 || anterior.size() != n || apex_displacement.size() != n
@@ -152,6 +205,17 @@ Result analyse(const std::vector<double>& t, const std::vector<Profile>& anterio
   r.deformation_amplitude = -deepest;
   r.deflection_amplitude = -(deepest - at_time(t, whole_eye_motion, hc_time));
   r.peak_distance = peak_distance(anterior[hc]);
+  r.hc_radius = concave_radius(profile_at(t, anterior, hc_time), radius_window);
+
+  // The largest inward whole-eye motion, refined like HC.
+  std::vector<double> inward(n);
+  for (std::size_t i = 0; i < n; ++i)
+    inward[i] = -whole_eye_motion[i];
+  const auto [eye_time, eye_depth] = vertex(
+      t, inward,
+      static_cast<std::size_t>(std::max_element(inward.begin(), inward.end()) - inward.begin()));
+  if (eye_depth > 0)
+    r.whole_eye_movement_max = eye_depth, r.whole_eye_movement_time = eye_time;
 
   // Apex velocity by central differences (one-sided at the ends).
   std::vector<double> velocity(n);
@@ -160,28 +224,41 @@ Result analyse(const std::vector<double>& t, const std::vector<Profile>& anterio
     const std::size_t a = i == 0 ? 0 : i - 1, b = i + 1 == n ? i : i + 1;
     velocity[i] = (apex_displacement[b] - apex_displacement[a]) / (t[b] - t[a]);
   }
-  std::vector<double> curvature(n);
+  std::vector<double> curvature(n), inverse_radius(n), concavity(n);
   for (std::size_t i = 0; i < n; ++i)
+  {
     curvature[i] = apex_curvature(anterior[i], half_width);
+    concavity[i] = apex_curvature(anterior[i], radius_window);
+    inverse_radius[i] = std::max(2 * concavity[i], 0.0);
+  }
+  r.max_inverse_radius = *std::max_element(inverse_radius.begin(), inverse_radius.end());
   auto applanation = [&](double time)
   {
-    // The profile at `time`: linear between the neighbouring frames.
-    const std::size_t i = interval(t, time);
-    const double s = (time - t[i]) / (t[i + 1] - t[i]);
-    Profile p = anterior[i];
-    for (std::size_t k = 0; k < p.y.size(); ++k)
-      p.y[k] = (1 - s) * anterior[i].y[k] + s * anterior[i + 1].y[k];
-    return Applanation{time, flat_length(p, flatness), at_time(t, velocity, time)};
+    return Applanation{time, flat_length(profile_at(t, anterior, time), flatness),
+                       at_time(t, velocity, time),
+                       -(at_time(t, apex_displacement, time) - at_time(t, whole_eye_motion, time))};
   };
   const auto in = crossings(t, curvature, true), out = crossings(t, curvature, false);
   auto a1 = std::find_if(in.begin(), in.end(), [&](double x) { return x <= r.hc_time; });
   auto a2 = std::find_if(out.begin(), out.end(), [&](double x) { return x >= r.hc_time; });
   r.applanated = a1 != in.end() && a2 != out.end();
-  if (r.applanated)
-  {
-    r.a1 = applanation(*a1);
-    r.a2 = applanation(*a2);
-  }
+  if (!r.applanated)
+    return r;
+  r.a1 = applanation(*a1);
+  r.a2 = applanation(*a2);
+  // The ends from the fitted curvature at A1 and A2, linear in time and
+  // clipped: 0 at applanation when both windows agree.
+  auto inverse_radius_at = [&](double time)
+  { return std::max(2 * at_time(t, concavity, time), 0.0); };
+  r.integrated_inverse_radius = integral(t, inverse_radius, r.a1.time,
+                                         inverse_radius_at(r.a1.time), r.a2.time,
+                                         inverse_radius_at(r.a2.time));
+  // The concave phase: the DA ratio is ill-conditioned while the flanks barely move.
+  for (std::size_t i = 0; i < n; ++i)
+    if (t[i] >= r.a1.time && t[i] <= r.a2.time)
+      for (auto [d, ratio] : {std::pair{1.0, &r.da_ratio_1mm}, {2.0, &r.da_ratio_2mm}})
+        if (auto q = da_ratio(anterior.front(), anterior[i], d); q && (!*ratio || *q > **ratio))
+          *ratio = q;
   return r;
 }
 

@@ -153,7 +153,7 @@ std::string Record::profiles_csv() const
   return out.str();
 }
 
-Result Record::analyse(double apex_window, double flatness) const
+Result Record::analyse(double apex_window, double radius_window, double flatness) const
 {
   std::vector<double> t, apex_u, whole;
   std::vector<Profile> anterior;
@@ -164,7 +164,7 @@ Result Record::analyse(double apex_window, double flatness) const
     apex_u.push_back(apex(f));
     whole.push_back(whole_eye(f));
   }
-  return biomarkers::analyse(t, anterior, apex_u, whole, apex_window, flatness);
+  return biomarkers::analyse(t, anterior, apex_u, whole, apex_window, radius_window, flatness);
 }
 
 std::vector<double> Record::column(const std::string& name) const

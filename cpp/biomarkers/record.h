@@ -49,7 +49,7 @@ public:
   std::string profiles_csv() const;
 
   /// The biomarkers of the frames (see biomarkers::analyse).
-  Result analyse(double apex_window, double flatness) const;
+  Result analyse(double apex_window, double radius_window, double flatness) const;
   /// A known or state column at time t [ms] of the frames (linear in between).
   double at(const std::string& column, double t) const;
   /// The largest value of a known or state column over the frames.

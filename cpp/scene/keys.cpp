@@ -278,6 +278,8 @@ std::vector<Key> declare()
                "rate at which the corneal profiles are sampled (Corvis ST: 4330 frames/s)"});
   k.push_back({"puff.apex_window", K::real, "1.0", "mm", 0.05, 5, {},
                "applanation: the apex curvature is fitted over |x| <= this"});
+  k.push_back({"puff.radius_window", K::real, "1.5", "mm", 0.1, 5, {},
+               "the HC radius and the inverse concave radius are fitted over |x| <= this"});
   k.push_back({"puff.flatness", K::real, "0.02", "mm", 1e-6, 1, {},
                "applanation length: the profile is flat where it stays within this of "
                "its height on the axis"});
