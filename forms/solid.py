@@ -49,11 +49,12 @@ import hgo
 import kinematics
 import neo_hookean
 import saint_venant_kirchhoff
+import support
 import volumetric
 
 # Integration tags, shared with cpp/solid/problem.cpp.
 HGO, NEO_HOOKEAN, SAINT_VENANT_KIRCHHOFF, COMPRESSIBLE_NEO_HOOKEAN = 1, 2, 3, 4  # cell tags: law
-CAVITY_1_WALL, SURFACE_LOAD, CAVITY_2_WALL = 1, 2, 3  # facet tags: load
+CAVITY_1_WALL, SURFACE_LOAD, CAVITY_2_WALL, SUPPORT = 1, 2, 3, 4  # facet tags: load
 
 element = VectorElement("Lagrange", tetrahedron, degree)  # noqa: F821 (set by the wrapper)
 cell_scalar = FiniteElement("DG", tetrahedron, 0)
@@ -79,6 +80,9 @@ p_cavity_1 = Constant(tetrahedron)
 p_cavity_2 = Constant(tetrahedron)
 p_surface = Constant(tetrahedron)
 surface_profile = Coefficient(nodal_scalar)  # shape f of the surface pressure [-]
+# The cut's lid per cavity, A_lid / A_cut (support.py; 0: no lid) [-]
+lid_1 = Constant(tetrahedron)
+lid_2 = Constant(tetrahedron)
 
 # Fixed quadrature degrees: UFL's estimate explodes on exp() (toolchain.md).
 dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
@@ -109,6 +113,8 @@ def balance(w):
             + inner(P_cnh_volume, grad(v)) * dx_volume(COMPRESSIBLE_NEO_HOOKEAN)
             + cavity.follower_pressure(p_cavity_1, Fw, N, v) * ds(CAVITY_1_WALL)
             + cavity.follower_pressure(p_cavity_2, Fw, N, v) * ds(CAVITY_2_WALL)
+            + (support.lid_pressure(p_cavity_1, lid_1, N, v)
+               + support.lid_pressure(p_cavity_2, lid_2, N, v)) * ds(SUPPORT)
             + cavity.follower_pressure(p_surface * surface_profile, Fw, N, v) * ds(SURFACE_LOAD))
 
 
@@ -125,12 +131,16 @@ J = derivative(R, u, du)
 
 # Enclosed cavity volumes (quarter model, no symmetry factor) about x0.
 x0 = Constant(tetrahedron, shape=(3,))
-volume_1 = cavity.volume(u, F, N, x0) * ds(CAVITY_1_WALL)
-volume_2 = cavity.volume(u, F, N, x0) * ds(CAVITY_2_WALL)
+volume_1 = (cavity.volume(u, F, N, x0) * ds(CAVITY_1_WALL)
+            + support.lid_volume(lid_1, u, N) * ds(SUPPORT))
+volume_2 = (cavity.volume(u, F, N, x0) * ds(CAVITY_2_WALL)
+            + support.lid_volume(lid_2, u, N) * ds(SUPPORT))
 
 # The border of the closed-cavity system: dR/dp_c and dV_c/du.
-cavity_load_1 = cavity.follower_pressure(1.0, F, N, v) * ds(CAVITY_1_WALL)
-cavity_load_2 = cavity.follower_pressure(1.0, F, N, v) * ds(CAVITY_2_WALL)
+cavity_load_1 = (cavity.follower_pressure(1.0, F, N, v) * ds(CAVITY_1_WALL)
+                 + support.lid_pressure(1.0, lid_1, N, v) * ds(SUPPORT))
+cavity_load_2 = (cavity.follower_pressure(1.0, F, N, v) * ds(CAVITY_2_WALL)
+                 + support.lid_pressure(1.0, lid_2, N, v) * ds(SUPPORT))
 dvolume_1 = derivative(volume_1, u, v)
 dvolume_2 = derivative(volume_2, u, v)
 
@@ -161,6 +171,10 @@ alpha_f = Constant(tetrahedron)
 beta = Constant(tetrahedron)
 gamma = Constant(tetrahedron)
 damping = Constant(tetrahedron)     # mass-proportional [1/ms]
+# The support on the cut (support.py), zero while clamped
+support_stiffness = Constant(tetrahedron)  # k [MPa/mm]
+support_damping = Constant(tetrahedron)    # c [MPa ms/mm]
+u_support = Coefficient(element)           # u_0 [mm]
 dx_mass = Measure("dx", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
 
 a_new = dynamics.acceleration(u, u_old, v_old, a_old, dt, beta)
@@ -168,11 +182,15 @@ v_new = dynamics.velocity(a_new, v_old, a_old, dt, gamma)
 u_mid = dynamics.level(u, u_old, alpha_f)
 R_dynamic = (density * inner(dynamics.level(a_new, a_old, alpha_m)
                              + damping * dynamics.level(v_new, v_old, alpha_f), v) * dx_mass
-             + balance(u_mid))
+             + balance(u_mid)
+             + support.spring_dashpot(support_stiffness, support_damping, u_mid, u_support,
+                                      dynamics.level(v_new, v_old, alpha_f), v) * ds(SUPPORT))
 J_dynamic = derivative(R_dynamic, u, du)
 F_mid = kinematics.deformation_gradient(u_mid)
-cavity_load_dynamic_1 = cavity.follower_pressure(1.0, F_mid, N, v) * ds(CAVITY_1_WALL)
-cavity_load_dynamic_2 = cavity.follower_pressure(1.0, F_mid, N, v) * ds(CAVITY_2_WALL)
+cavity_load_dynamic_1 = (cavity.follower_pressure(1.0, F_mid, N, v) * ds(CAVITY_1_WALL)
+                         + support.lid_pressure(1.0, lid_1, N, v) * ds(SUPPORT))
+cavity_load_dynamic_2 = (cavity.follower_pressure(1.0, F_mid, N, v) * ds(CAVITY_2_WALL)
+                         + support.lid_pressure(1.0, lid_2, N, v) * ds(SUPPORT))
 
 # Energies (for checks): stored in the solid at u, kinetic at v_n.
 strain_energy = (psi_hgo * dx(HGO) + psi_neo_hookean * dx(NEO_HOOKEAN)
@@ -189,7 +207,9 @@ jacobian_points = ([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0
                                            quadrature_degree)[0].tolist())  # noqa: F821
 det_F = det(F)
 
+support_area = inner(N, N) * ds(SUPPORT)  # the cut's area (meshed part) [mm^2]
+
 forms = [R, J, volume_1, volume_2, cavity_load_1, cavity_load_2, dvolume_1, dvolume_2,
          R_dynamic, J_dynamic, cavity_load_dynamic_1, cavity_load_dynamic_2,
-         strain_energy, kinetic_energy]
+         strain_energy, kinetic_energy, support_area]
 expressions = [(von_mises, [[0.25, 0.25, 0.25]]), (det_F, jacobian_points)]

@@ -133,6 +133,82 @@ TEST(Dynamics, EnergyConservedOrDampedAtThePredictedRate)
   EXPECT_NEAR(rate, c, 0.05 * c);
 }
 
+// A rigid body on the support's springs and dashpots (forms/support.py):
+// the stiff cube, held on y = 0 by K and C and set moving along y by a
+// short push on y = 1, vibrates as m x'' + (alpha m + C) x' + K x = 0
+// (alpha the mass-proportional damping): at omega_d = sqrt(K / m -
+// sigma^2), decaying as exp(-sigma t) with sigma = (alpha + C / m) / 2.
+// The cube's own modes are 100x faster: it moves as a rigid body.
+TEST(Support, RigidBodyOnSpringsVibratesAtTheClosedForm)
+{
+  const double rho = 1e-3, K = 1.0, C = 0.004, alpha = 0.2; // g/mm^3, N/mm, N ms/mm, 1/ms
+  auto s = nct::scene::Scene::load(
+      std::filesystem::path(NCT_SOURCE_DIR) / "tests/scenes/hgo_uniaxial.toml",
+      {"material.tissue.model=\"neo_hookean\"", "material.tissue.c10=1000.0",
+       "material.tissue.kappa=10000.0", "material.tissue.density=" + std::to_string(rho),
+       "boundary.symmetry=[\"x0\", \"z0\"]", "boundary.fixed=[\"y0\"]",
+       "boundary.surface_load=[\"y1\"]", "support.model=\"springs\"",
+       "support.stiffness=" + std::to_string(K), "support.damping=" + std::to_string(C)});
+  nct::Model model = nct::make_model(MPI_COMM_WORLD, s);
+  auto& problem = *model.problem;
+  dolfinx::la::petsc::Matrix A(problem.create_matrix(), false);
+  nct::solver::set_petsc_options({});
+  nct::solver::Newton newton(MPI_COMM_WORLD, A.mat());
+  nct::cavity::Open open(problem);
+  const nct::solver::NewtonSettings settings{25, 1e-10, 1e-12, true, false};
+  const double dt = 0.01, push = 0.05, end = 2.0; // ms
+  problem.start_dynamics({dt, 0.8, alpha});
+  const nct::solid::Probes probe(problem, {{0.5, 0.5, 0.5}});
+  std::vector<double> t, y;
+  for (int n = 0; (n + 1) * dt <= end + 1e-12; ++n)
+  {
+    const double tn = (n + problem.load_level()) * dt;
+    const double x = std::min(tn / push, 1.0);
+    problem.set_surface_pressure(tn < push ? 100 * mmHg * std::pow(std::sin(M_PI * x), 2) : 0);
+    const auto report = newton.solve(open.system(), settings);
+    ASSERT_TRUE(report.converged) << "step " << n << ": " << report.reason << ", residuals "
+                                  << report.residuals.front() << " to "
+                                  << report.residuals.back();
+    problem.advance();
+    t.push_back((n + 1) * dt), y.push_back(probe.displacement()[0][1]);
+  }
+  // The free vibration after the push: its upward zero crossings give the
+  // period, its maxima (each refined by a parabola) the decay.
+  std::vector<double> up, peak_t, peak_log;
+  for (std::size_t i = 1; i + 1 < t.size(); ++i)
+  {
+    if (t[i] < 2 * push)
+      continue;
+    if (y[i - 1] < 0 && y[i] >= 0)
+      up.push_back(t[i - 1] + dt * y[i - 1] / (y[i - 1] - y[i]));
+    if (y[i] > y[i - 1] && y[i] >= y[i + 1] && y[i] > 0)
+    {
+      const double a = 0.5 * (y[i - 1] - 2 * y[i] + y[i + 1]), b = 0.5 * (y[i + 1] - y[i - 1]);
+      peak_t.push_back(t[i] - dt * b / (2 * a));
+      peak_log.push_back(std::log(y[i] - b * b / (4 * a)));
+    }
+  }
+  ASSERT_GE(up.size(), 4u);
+  ASSERT_GE(peak_t.size(), 4u);
+  const double omega_d = 2 * M_PI * (up.size() - 1) / (up.back() - up.front());
+  double st = 0, sl = 0, stt = 0, stl = 0;
+  const double np = static_cast<double>(peak_t.size());
+  for (std::size_t i = 0; i < peak_t.size(); ++i)
+    st += peak_t[i], sl += peak_log[i], stt += peak_t[i] * peak_t[i],
+        stl += peak_t[i] * peak_log[i];
+  const double sigma = -(np * stl - st * sl) / (np * stt - st * st);
+  const double m = 4 * rho; // the whole model: the quarter is the unit cube
+  const double sigma_exact = 0.5 * (alpha + C / m);
+  const double omega_exact = std::sqrt(K / m - sigma_exact * sigma_exact);
+  std::printf("rigid body on springs: omega_d %.5f rad/ms (closed form %.5f), decay %.5f 1/ms "
+              "(closed form %.5f), %zu periods\n",
+              omega_d, omega_exact, sigma, sigma_exact, up.size() - 1);
+  // Generalised alpha at omega dt = 0.16: period error O((omega dt)^2) ~ 2e-3,
+  // algorithmic damping O((omega dt)^3): below the tolerances.
+  EXPECT_NEAR(omega_d, omega_exact, 5e-3 * omega_exact);
+  EXPECT_NEAR(sigma, sigma_exact, 2e-2 * sigma_exact);
+}
+
 // The default scene's whole timeline (zero pressure, inflate, close, rest,
 // puff) on a coarse mesh: the closed humor keeps its volume through the
 // puff while the IOP rises; the eye at rest does not move; the cornea

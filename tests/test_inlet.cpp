@@ -152,7 +152,7 @@ TEST(Inlet, BadTablesNameTheLine)
 {
   EXPECT_NE(table_error("").find(":1: empty file"), std::string::npos);
   EXPECT_NE(table_error("x,y,z,u\n").find(":1: header 'x,y,z,u'"), std::string::npos);
-  EXPECT_NE(table_error("x_mm,y_mm,z_mm,u_m_s\n").find(":2: no points"), std::string::npos);
+  EXPECT_NE(table_error("x_mm,y_mm,z_mm,u_m_s\n").find(":2: no rows after the header"), std::string::npos);
   EXPECT_NE(table_error("x_mm,y_mm,z_mm,u_m_s\n0,0,0,1\n0,1,nan,2\n").find(":3: '0,1,nan,2' is not four finite numbers"),
             std::string::npos);
   EXPECT_NE(table_error("x_mm,y_mm,z_mm,u_m_s\n0,0,0,1,5\n").find(":2:"), std::string::npos);

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
+
+#include "io/csv.h"
 
 namespace nct::air
 {
@@ -89,50 +89,7 @@ double Inlet::mean_factor() const
 
 std::vector<std::array<double, 4>> Inlet::read_table(const std::filesystem::path& file)
 {
-  std::ifstream in(file);
-  if (!in)
-    throw std::invalid_argument(file.string() + ": cannot open the inlet table");
-  auto fail = [&](int line, const std::string& what)
-  { throw std::invalid_argument(file.string() + ":" + std::to_string(line) + ": " + what); };
-  const std::string header = "x_mm,y_mm,z_mm,u_m_s";
-  std::string text;
-  if (!std::getline(in, text))
-    fail(1, "empty file; expected the header " + header);
-  text.erase(std::remove_if(text.begin(), text.end(), ::isspace), text.end());
-  if (text != header)
-    fail(1, "header '" + text + "'; expected " + header);
-  std::vector<std::array<double, 4>> points;
-  for (int line = 2; std::getline(in, text); ++line)
-  {
-    if (std::all_of(text.begin(), text.end(), ::isspace))
-      continue;
-    std::array<double, 4> p;
-    std::istringstream row(text);
-    bool ok = true;
-    for (int i = 0; i < 4 && ok; ++i)
-    {
-      std::string cell;
-      ok = static_cast<bool>(std::getline(row, cell, ','));
-      std::size_t end = 0;
-      try
-      {
-        p[i] = std::stod(cell, &end);
-      }
-      catch (const std::exception&)
-      {
-        ok = false;
-      }
-      ok = ok && std::isfinite(p[i])
-           && std::all_of(cell.begin() + static_cast<std::ptrdiff_t>(end), cell.end(), ::isspace);
-    }
-    std::string rest;
-    if (!ok || std::getline(row, rest))
-      fail(line, "'" + text + "' is not four finite numbers");
-    points.push_back(p);
-  }
-  if (points.empty())
-    fail(2, "no points");
-  return points;
+  return io::read_csv<4>(file, "x_mm,y_mm,z_mm,u_m_s", "inlet table").values;
 }
 
 } // namespace nct::air

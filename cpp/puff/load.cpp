@@ -1,12 +1,11 @@
 #include "puff/load.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
+
+#include "io/csv.h"
 
 namespace nct::puff
 {
@@ -33,6 +32,74 @@ double Gaussian::operator()(double r, double t) const
   return _peak * std::exp(-0.5 * s * s) * std::exp(-0.5 * r * r / (_width_r * _width_r));
 }
 
+PulseShape::PulseShape(double rise_time, double hold_time, double fall_time)
+    : _rise(rise_time), _hold(hold_time), _fall(fall_time)
+{
+  if (!(rise_time > 0 && hold_time >= 0 && fall_time > 0))
+    throw std::invalid_argument("pulse: the rise and fall times must be positive and the "
+                                "hold time not negative");
+}
+
+PulseShape PulseShape::from_descriptors(double rise, double fall, double duration)
+{
+  // Each edge's rate is the peak over the edge's length; what the edges
+  // leave of the duration is the hold.
+  if (!(rise > 0 && fall > 0 && duration > 0))
+    throw std::invalid_argument("pulse: the edges' rates and the duration must be positive");
+  const double hold = duration - 1 / rise - 1 / fall;
+  if (hold < 0)
+    throw std::invalid_argument("pulse: edges this slow take " + std::to_string(duration - hold)
+                                + " ms, longer than the duration " + std::to_string(duration)
+                                + " ms; raise the rates or the duration");
+  return PulseShape(1 / rise, hold, 1 / fall);
+}
+
+double PulseShape::operator()(double t) const
+{
+  if (t <= 0 || t >= end())
+    return 0.0;
+  if (t < _rise)
+    return 0.5 * (1 - std::cos(M_PI * t / _rise));
+  if (t <= _rise + _hold)
+    return 1.0;
+  return 0.5 * (1 + std::cos(M_PI * (t - _rise - _hold) / _fall));
+}
+
+RadialProfile::RadialProfile(std::vector<double> r, std::vector<double> f)
+    : _r(std::move(r)), _f(std::move(f))
+{
+  if (_r.empty() || _r.size() != _f.size())
+    throw std::invalid_argument("radial profile: as many values as radii, at least one");
+}
+
+RadialProfile RadialProfile::read(const std::filesystem::path& file)
+{
+  const auto [rows, lines] = io::read_csv<2>(file, "r_mm,p_mmHg", "radial profile");
+  auto fail = [&](int line, const std::string& what) { io::csv_error(file, line, what); };
+  if (rows[0][0] != 0)
+    fail(lines[0], "the first radius must be 0 (the axis), not " + std::to_string(rows[0][0]));
+  if (!(rows[0][1] > 0))
+    fail(lines[0], "the pressure on the axis must be positive: the profile is normalised "
+                   "by it");
+  std::vector<double> r, f;
+  for (std::size_t k = 0; k < rows.size(); ++k)
+  {
+    if (k > 0 && rows[k][0] <= r.back())
+      fail(lines[k], "radius " + std::to_string(rows[k][0]) + " mm does not increase");
+    r.push_back(rows[k][0]);
+    f.push_back(rows[k][1] / rows[0][1]);
+  }
+  return RadialProfile(std::move(r), std::move(f));
+}
+
+double RadialProfile::operator()(double r) const
+{
+  const auto [i, w] = locate(_r, r);
+  if (_r.size() == 1)
+    return _f[0];
+  return (1 - w) * _f[i] + w * _f[i + 1];
+}
+
 Table::Table(std::vector<double> times, std::vector<double> radii, std::vector<double> p)
     : _t(std::move(times)), _r(std::move(radii)), _p(std::move(p))
 {
@@ -43,41 +110,11 @@ Table::Table(std::vector<double> times, std::vector<double> radii, std::vector<d
 
 Table Table::read(const std::filesystem::path& file)
 {
-  std::ifstream in(file);
-  if (!in)
-    throw std::invalid_argument(file.string() + ": cannot open the puff table");
-  auto fail = [&](int line, const std::string& what)
-  { throw std::invalid_argument(file.string() + ":" + std::to_string(line) + ": " + what); };
-  std::string text;
-  if (!std::getline(in, text))
-    fail(1, "empty file; expected the header t_ms,r_mm,p_mmHg");
-  text.erase(std::remove_if(text.begin(), text.end(), ::isspace), text.end());
-  if (text != "t_ms,r_mm,p_mmHg")
-    fail(1, "header '" + text + "'; expected t_ms,r_mm,p_mmHg");
-
-  // Rows (t, r, p) with their line numbers.
-  std::vector<std::array<double, 3>> rows;
-  std::vector<int> lines;
-  for (int line = 2; std::getline(in, text); ++line)
-  {
-    if (text.find_first_not_of(" \t\r") == std::string::npos)
-      continue;
-    std::istringstream row(text);
-    std::array<double, 3> v;
-    char c1 = 0, c2 = 0;
-    row >> v[0] >> c1 >> v[1] >> c2 >> v[2];
-    const bool read = static_cast<bool>(row);
-    row >> std::ws; // nothing may follow
-    if (!read || !row.eof() || c1 != ',' || c2 != ',' || !std::isfinite(v[0])
-        || !std::isfinite(v[1]) || !std::isfinite(v[2]))
-      fail(line, "'" + text + "' is not three finite numbers t_ms,r_mm,p_mmHg");
-    if (v[1] < 0)
-      fail(line, "radius " + std::to_string(v[1]) + " mm is negative");
-    rows.push_back(v);
-    lines.push_back(line);
-  }
-  if (rows.empty())
-    fail(2, "no rows after the header");
+  const auto [rows, lines] = io::read_csv<3>(file, "t_ms,r_mm,p_mmHg", "puff table");
+  auto fail = [&](int line, const std::string& what) { io::csv_error(file, line, what); };
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    if (rows[k][1] < 0)
+      fail(lines[k], "radius " + std::to_string(rows[k][1]) + " mm is negative");
 
   // The grid: the radii of the first time, repeated for every time.
   std::vector<double> t, r, p;

@@ -277,6 +277,11 @@ MeshSetup eye_setup(meshio::Tagged mesh, const eye::Geometry& g, const eye::Deri
     m.boundaries.cavities = {{surface_tag(gs, "cavity_wall", eye_model, "mesh")}};
     m.cavity_names = {"cavity"};
   }
+  // The cut closes the cavity behind (the vitreous, or the one cavity)
+  // with a lid: the quarter disc inside the inner scleral sphere.
+  const double inner = g.sclera_outer_radius - g.sclera_thickness;
+  m.boundaries.lids.assign(m.boundaries.cavities.size(), 0.0);
+  m.boundaries.lids.back() = M_PI * (inner * inner - g.cut_y * g.cut_y) / 4;
   m.boundaries.surface_load = {surface_tag(gs, "anterior_cornea", eye_model, "mesh")};
   m.fibres = [g](const std::string& part, const std::array<double, 3>& X)
   {
@@ -420,12 +425,47 @@ MeshSetup file_mesh(MPI_Comm comm, const scene::Scene& s, std::optional<AirMesh>
 
 } // namespace
 
+puff::PulseShape pulse_shape(const scene::Scene& s)
+{
+  const double peak = s.real("puff.peak");
+  if (peak <= 0)
+    throw scene::Error(s.file().string() + ": key 'puff.peak': the pulse needs a positive "
+                       "peak, not " + std::to_string(peak) + " mmHg");
+  try
+  {
+    return puff::PulseShape::from_descriptors(s.real("puff.rise_rate") / peak,
+                                              s.real("puff.fall_rate") / peak,
+                                              s.real("puff.pulse_duration"));
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw scene::Error(s.file().string() + ": keys 'puff.rise_rate', 'puff.fall_rate', "
+                       "'puff.pulse_duration': " + e.what());
+  }
+}
+
 std::unique_ptr<puff::Load> puff_load(const scene::Scene& s)
 {
   const std::string load = s.string("puff.load");
   if (load == "gaussian")
     return std::make_unique<puff::Gaussian>(s.real("puff.peak"), s.real("puff.peak_time"),
                                             s.real("puff.width_t"), s.real("puff.width_r"));
+  if (load == "pulse")
+  {
+    if (s.string("puff.profile").empty())
+      throw scene::Error(s.file().string() + ": key 'puff.profile': puff.load = \"pulse\" "
+                         "needs a CSV file (r_mm,p_mmHg)");
+    const puff::PulseShape shape = pulse_shape(s);
+    try
+    {
+      return std::make_unique<puff::Pulse>(s.real("puff.peak"), shape,
+                                           puff::RadialProfile::read(s.path("puff.profile")));
+    }
+    catch (const std::invalid_argument& e)
+    {
+      throw scene::Error(s.file().string() + ": key 'puff.profile': " + e.what());
+    }
+  }
   if (load == "table")
   {
     if (s.string("puff.table").empty())
@@ -446,6 +486,8 @@ std::unique_ptr<puff::Load> puff_load(const scene::Scene& s)
 void check(MPI_Comm comm, const scene::Scene& s)
 {
   puff_load(s);
+  if (s.has("air.inlet_history") && s.string("air.inlet_history") == "pulse")
+    pulse_shape(s);
   if (s.has("inlet.profile") && s.string("inlet.profile") == "table")
   {
     if (s.string("inlet.table").empty())
@@ -793,6 +835,8 @@ Model make_model(MPI_Comm comm, const scene::Scene& s)
       model.setup = model.eye ? eye_mesh(comm, s) : file_mesh(comm, s);
   }
   MeshSetup& m = model.setup;
+  if (s.string("support.model") == "springs")
+    m.boundaries.support = solid::Support{s.real("support.stiffness"), s.real("support.damping")};
   for (auto& p : s.points("output.probes"))
   {
     m.probes.push_back(p);

@@ -72,6 +72,9 @@ Model make_model(MPI_Comm comm, const scene::Scene& scene);
 /// The puff's air pressure p(r, t) [mmHg] (puff.load), or null for none.
 /// Throws scene::Error for a table that cannot be read.
 std::unique_ptr<puff::Load> puff_load(const scene::Scene& scene);
+/// The measured pulse's shape in time from puff.peak, rise_rate,
+/// fall_rate and pulse_duration; throws scene::Error naming the keys.
+puff::PulseShape pulse_shape(const scene::Scene& scene);
 
 /// The checks of a scene that need more than its keys: the eye's geometry,
 /// an external mesh's groups against the scene's materials and boundaries.

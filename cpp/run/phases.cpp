@@ -44,43 +44,75 @@ void summarise_puff(RunState& s)
 {
   const auto& frames = *s.frames;
   nlohmann::json& summary = s.summary;
-  const auto r = frames.analyse(s.scene.real("puff.apex_window"), s.scene.real("puff.flatness"));
+  const auto r = frames.analyse(s.scene.real("puff.apex_window"),
+                                s.scene.real("puff.radius_window"), s.scene.real("puff.flatness"));
   summary["frames"] = frames.frames();
   summary["hc_time_ms"] = r.hc_time;
   summary["deformation_amplitude_mm"] = r.deformation_amplitude;
   summary["deflection_amplitude_mm"] = r.deflection_amplitude;
   summary["whole_eye_motion_hc_mm"] = r.deflection_amplitude - r.deformation_amplitude;
   summary["peak_distance_mm"] = r.peak_distance;
+  if (r.hc_radius)
+    summary["hc_radius_mm"] = *r.hc_radius;
+  summary["max_inverse_radius_per_mm"] = r.max_inverse_radius;
+  summary["whole_eye_movement_max_mm"] = r.whole_eye_movement_max;
+  if (r.whole_eye_movement_time)
+    summary["whole_eye_movement_time_ms"] = *r.whole_eye_movement_time;
   if (r.applanated)
+  {
     for (auto [name, a] : {std::pair{"a1", &r.a1}, {"a2", &r.a2}})
     {
       summary[std::string(name) + "_time_ms"] = a->time;
       summary[std::string(name) + "_length_mm"] = a->length;
       summary[std::string(name) + "_velocity_m_s"] = a->apex_velocity;
+      summary[std::string(name) + "_deflection_mm"] = a->deflection;
     }
+    summary["a1_a2_interval_ms"] = r.a1_a2_interval();
+    summary["a1_hc_interval_ms"] = r.a1_hc_interval();
+    summary["integrated_inverse_radius_ms_per_mm"] = *r.integrated_inverse_radius;
+  }
+  for (auto [key, ratio] :
+       {std::pair{"da_ratio_1mm", &r.da_ratio_1mm}, {"da_ratio_2mm", &r.da_ratio_2mm}})
+    if (*ratio)
+      summary[key] = **ratio;
   summary["apex_pressure_hc_mmHg"] = frames.at("apex_air_pressure_mmHg", r.hc_time);
   summary["apex_pressure_max_mmHg"] = frames.max("apex_air_pressure_mmHg");
   const auto& cavities = s.model.setup.cavity_names;
+  std::optional<double> sp_a1;
   if (!cavities.empty())
   {
     summary["iop_max_mmHg"] = frames.max(cavities[0] + "_pressure_mmHg");
     summary["iop_hc_mmHg"] = frames.at(cavities[0] + "_pressure_mmHg", r.hc_time);
+    if (r.applanated)
+      sp_a1 = biomarkers::stiffness_parameter_a1(
+          frames.at("apex_air_pressure_mmHg", r.a1.time),
+          frames.at(cavities[0] + "_pressure_mmHg", 0.0), r.a1.deflection);
   }
+  if (sp_a1)
+    summary["sp_a1_mmHg_per_mm"] = *sp_a1;
   std::string text = format("biomarkers: HC %.3f ms, deformation %.4f mm, deflection %.4f "
-                            "mm, peak distance %.3f mm",
+                            "mm, peak distance %.3f mm, whole eye %.4f mm",
                             r.hc_time, r.deformation_amplitude, r.deflection_amplitude,
-                            r.peak_distance);
+                            r.peak_distance, r.whole_eye_movement_max);
+  if (r.hc_radius)
+    text += format(", HC radius %.3f mm", *r.hc_radius);
   if (r.applanated)
-    text += format("; A1 %.3f ms %.3f mm %+.3f m/s; A2 %.3f ms %.3f mm %+.3f m/s", r.a1.time,
-                   r.a1.length, r.a1.apex_velocity, r.a2.time, r.a2.length,
-                   r.a2.apex_velocity);
+    text += format("; A1 %.3f ms %.3f mm %+.3f m/s; A2 %.3f ms %.3f mm %+.3f m/s; "
+                   "A1 deflection %.4f mm; integrated 1/R %.3f ms/mm",
+                   r.a1.time, r.a1.length, r.a1.apex_velocity, r.a2.time, r.a2.length,
+                   r.a2.apex_velocity, r.a1.deflection, *r.integrated_inverse_radius);
   else
     text += "; the cornea did not applanate twice (no A1/A2)";
+  if (r.da_ratio_2mm)
+    text += format("; DA ratio 2 mm %.3f", *r.da_ratio_2mm);
+  if (sp_a1)
+    text += format("; SP-A1 %.1f mmHg/mm", *sp_a1);
   s.folder.log(text);
 }
 
-/// The inlet's speed [mm/ms] at time t: the puff's Gaussian in time on
-/// the eye; on a file mesh, inlet.velocity ramped over inlet.ramp_time.
+/// The inlet's speed [mm/ms] at time t: on the eye, the puff's Gaussian in
+/// time or the square root of the measured pulse's shape (air.inlet_history);
+/// on a file mesh, inlet.velocity ramped over inlet.ramp_time.
 std::function<double(double)> inlet_velocity(const scene::Scene& s)
 {
   if (s.string("mesh.source") == "file")
@@ -91,8 +123,10 @@ std::function<double(double)> inlet_velocity(const scene::Scene& s)
     const double U = s.string("inlet.profile") == "table" ? 1.0 : s.real("inlet.velocity");
     return [=](double t) { return U * ramp.ramp(t); };
   }
-  const double U = s.real("air.inlet_velocity"), peak_time = s.real("puff.peak_time"),
-               width_t = s.real("puff.width_t");
+  const double U = s.real("air.inlet_velocity");
+  if (s.string("air.inlet_history") == "pulse")
+    return [U, shape = pulse_shape(s)](double t) { return U * std::sqrt(shape(t)); };
+  const double peak_time = s.real("puff.peak_time"), width_t = s.real("puff.width_t");
   return [=](double t)
   { return U * std::exp(-(t - peak_time) * (t - peak_time) / (2 * width_t * width_t)); };
 }
@@ -340,7 +374,7 @@ private:
   biomarkers::Columns _columns;
 };
 
-/// Phase 6, prescribed (puff.load = "gaussian" or "table"): the air as a
+/// Phase 6, prescribed (puff.load = "gaussian", "pulse" or "table"): the air as a
 /// follower pressure p(r, t) on the anterior cornea.
 class PrescribedPuff : public Phase
 {
@@ -647,7 +681,7 @@ std::vector<std::unique_ptr<Phase>> timeline(const scene::Scene& s, const Model&
                  {"interface_power_air_mW", 0.0}, {"interface_power_solid_mW", 0.0}};
     phases.push_back(std::make_unique<Rest>(at_rest));
   }
-  if (load == "gaussian" || load == "table")
+  if (load == "gaussian" || load == "pulse" || load == "table")
     phases.push_back(std::make_unique<PrescribedPuff>());
   if (load == "fsi")
     phases.push_back(std::make_unique<CoupledPuff>());

@@ -198,6 +198,21 @@ std::vector<Key> declare()
                "file: point on every symmetry plane and on any flat closing cap; "
                "the cavity volume is taken about it"});
   only_when(k, file_keys, "mesh.source=file");
+  // the support of the fixed face (the eye's cut, a file's boundary.fixed)
+  k.push_back({"support.model", K::choice, "\"clamped\"", "", -inf, inf,
+               {"clamped", "springs"},
+               "clamped = u = 0 throughout; springs = clamped in the quasi-static phases, "
+               "then from the start of the dynamics held by springs and dashpots "
+               "(forms/support.py) that take over the clamp's reaction: the whole eye "
+               "moves in the orbit"});
+  const std::size_t support_keys = k.size();
+  k.push_back({"support.stiffness", K::real, "0.35", "N/mm", 1e-9, 1e6, {},
+               "the whole model's spring stiffness, spread evenly over the fixed face "
+               "(Kling et al. 2014, table 3: 350 N/m for the human eye)"});
+  k.push_back({"support.damping", K::real, "100.0", "N ms/mm", 0, 1e6, {},
+               "the whole model's dashpot, spread evenly over the fixed face (Kling et "
+               "al. 2014, table 3: 100 kg/s = 100 N ms/mm)"});
+  only_when(k, support_keys, "support.model=springs");
   // the fluid cavities (humors)
   k.push_back({"cavity.model", K::choice, "\"closed\"", "", -inf, inf,
                {"closed", "constant_pressure"},
@@ -252,18 +267,34 @@ std::vector<Key> declare()
                "held (it should not move); 0 skips the phase"});
   // phase: the air puff as a prescribed pressure p(r, t) on the anterior cornea
   k.push_back({"puff.load", K::choice, "\"none\"", "", -inf, inf,
-               {"none", "gaussian", "table", "air", "fsi"},
+               {"none", "gaussian", "pulse", "table", "air", "fsi"},
                "none skips the phase; gaussian = peak exp(-(t - peak_time)^2 / (2 "
-               "width_t^2)) exp(-r^2 / (2 width_r^2)); table = a CSV file (t_ms, r_mm, "
+               "width_t^2)) exp(-r^2 / (2 width_r^2)); pulse = peak s(t) f(r), s the "
+               "measured pulse's shape (rise_rate, fall_rate, pulse_duration) and f the "
+               "radial profile of a CFD run (profile); table = a CSV file (t_ms, r_mm, "
                "p_mmHg) such as a CFD run writes; air = the air itself, computed from the "
                "nozzle (air.*) on a rigid eye or on none, writing such a table; fsi = the "
                "air and the eye two-way coupled in one Newton system (air.*, mesh_motion.*, "
                "fsi.*)"});
   const std::size_t puff_keys = k.size();
   k.push_back({"puff.duration", K::real, "20.0", "ms", 1e-3, 1e7, {},
-               "time followed from the start of the puff", "puff.load=gaussian|table|air|fsi"});
+               "time followed from the start of the puff", "puff.load=gaussian|pulse|table|air|fsi"});
   k.push_back({"puff.peak", K::real, "65.0", "mmHg", -1e4, 1e4, {},
-               "peak air pressure at the apex", "puff.load=gaussian"});
+               "peak air pressure at the apex (with air.inlet_history = \"pulse\": the "
+               "target the pulse's edges are relative to)", "puff.load=gaussian|pulse|air|fsi"});
+  k.push_back({"puff.rise_rate", K::real, "8.94", "mmHg/ms", 1e-3, 1e5, {},
+               "the pulse's mean rate of rise: the peak over the rising edge's length "
+               "(a raised cosine, cpp/puff/load.h)", "puff.load=pulse|air|fsi"});
+  k.push_back({"puff.fall_rate", K::real, "11.18", "mmHg/ms", 1e-3, 1e5, {},
+               "the mean rate of fall (magnitude): the peak over the falling edge's length",
+               "puff.load=pulse|air|fsi"});
+  k.push_back({"puff.pulse_duration", K::real, "21.48", "ms", 1e-3, 1e4, {},
+               "the pulse's length from onset (t = 0) to end; what the edges leave of it "
+               "is a hold at the peak (must not be negative)", "puff.load=pulse|air|fsi"});
+  k.push_back({"puff.profile", K::string, "\"\"", "", -inf, inf, {},
+               "CSV file with the header r_mm,p_mmHg from r = 0 (e.g. a CFD run's "
+               "corneal pressure at its peak), relative to the scene file; the pulse is "
+               "scaled by p(r) / p(0)", "puff.load=pulse"});
   k.push_back({"puff.peak_time", K::real, "10.0", "ms", 0, 1e3, {},
                "time of the peak from the start of the puff", "puff.load=gaussian|air|fsi"});
   k.push_back({"puff.width_t", K::real, "3.0", "ms", 1e-3, 1e3, {},
@@ -283,7 +314,7 @@ std::vector<Key> declare()
   k.push_back({"puff.flatness", K::real, "0.02", "mm", 1e-6, 1, {},
                "applanation length: the profile is flat where it stays within this of "
                "its height on the axis"});
-  only_when(k, puff_keys, "puff.load=gaussian|table|fsi");
+  only_when(k, puff_keys, "puff.load=gaussian|pulse|table|fsi");
   // the air (puff.load = "air" or "fsi"): stabilised ALE Navier-Stokes,
   // forms/air.py and forms/air_ale.py
   const std::size_t air_keys = k.size();
@@ -296,8 +327,13 @@ std::vector<Key> declare()
   k.push_back({"air.viscosity", K::real, "1.8e-8", "MPa ms", 1e-12, 1, {},
                "air dynamic viscosity"});
   k.push_back({"air.inlet_velocity", K::real, "120.0", "m/s", 0, 1e3, {},
-               "air speed on the nozzle's axis at the inlet at the puff's peak, "
-               "u = inlet_velocity exp(-(t - puff.peak_time)^2 / (2 puff.width_t^2))"});
+               "air speed on the nozzle's axis at the inlet at the puff's peak"});
+  k.push_back({"air.inlet_history", K::choice, "\"gaussian\"", "", -inf, inf,
+               {"gaussian", "pulse"},
+               "the inlet speed in time: gaussian = inlet_velocity exp(-(t - "
+               "puff.peak_time)^2 / (2 puff.width_t^2)); pulse = inlet_velocity sqrt(s(t)), "
+               "s the measured pulse's shape (puff.peak, rise_rate, fall_rate, "
+               "pulse_duration): the quasi-steady jet's stagnation pressure follows s"});
   k.push_back({"air.inlet_profile", K::choice, "\"plug\"", "", -inf, inf,
                {"plug", "parabolic"},
                "shape across the nozzle's bore: plug = uniform, parabolic = 1 - (r / "
@@ -460,12 +496,21 @@ void check_consistency(const Scene& s)
 
   // The biomarkers need the deepest frame and its neighbours.
   const std::string load = s.string("puff.load");
-  if ((load == "gaussian" || load == "table" || load == "fsi")
+  if ((load == "gaussian" || load == "pulse" || load == "table" || load == "fsi")
       && s.real("puff.duration") * s.real("puff.frame_rate") < 2e3)
     fail("key 'puff.duration': " + std::to_string(s.real("puff.duration"))
          + " ms holds fewer than 3 frames at puff.frame_rate = "
          + std::to_string(s.real("puff.frame_rate")) + "/s; needs at least "
          + std::to_string(2e3 / s.real("puff.frame_rate")) + " ms");
+
+  if (s.string("support.model") == "springs")
+  {
+    if (load == "fsi")
+      fail("key 'support.model': \"springs\" is not coupled with puff.load = \"fsi\" yet "
+           "(the coupled system fixes its clamped rows when it is built); use \"clamped\"");
+    if (!eye && s.strings("boundary.fixed").empty())
+      fail("key 'support.model': \"springs\" act on boundary.fixed, which names no group");
+  }
 
   if (load == "air" && !eye)
     for (const std::string& part : s.tables("material"))

@@ -37,6 +37,7 @@ struct Kernels
   ufcx_form* J_dynamic;
   ufcx_form* strain_energy;
   ufcx_form* kinetic_energy;
+  ufcx_form* support_area;
   ufcx_expression* von_mises;
   ufcx_expression* det_F;
   ufcx_function_space* (*space)(const char*);
@@ -51,6 +52,7 @@ struct Kernels
            form_solid_##v##_cavity_load_dynamic_2},                               \
           form_solid_##v##_R_dynamic, form_solid_##v##_J_dynamic,                 \
           form_solid_##v##_strain_energy, form_solid_##v##_kinetic_energy,         \
+          form_solid_##v##_support_area,                                          \
           expression_solid_##v##_von_mises, expression_solid_##v##_det_F,         \
           functionspace_form_solid_##v##_R}
 
@@ -69,6 +71,7 @@ Kernels kernels(const Element& e)
 /// Facet tags of forms/solid.py.
 constexpr std::array<std::int32_t, 2> cavity_wall_tags = {1, 3};
 constexpr std::int32_t surface_load_tag = 2;
+constexpr std::int32_t support_tag = 4;
 
 /// The coordinate axis normal to every facet of a group (all ranks agree);
 /// throws if the group is not a plane x_i = const.
@@ -113,6 +116,8 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
       load_of_group[g] = cavity_wall_tags[c];
   for (auto g : boundaries.surface_load)
     load_of_group[g] = surface_load_tag;
+  for (auto g : boundaries.fixed)
+    load_of_group[g] = support_tag;
   _law_tags = std::make_shared<mesh::MeshTags<std::int32_t>>(
       meshio::retag(*m.cells, law_of_group));
   _load_tags = std::make_shared<mesh::MeshTags<std::int32_t>>(
@@ -123,6 +128,12 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
   _p_surface = std::make_shared<fem::Constant<double>>(0.0);
   _x0 = std::make_shared<fem::Constant<double>>(
       std::vector<double>(volume_origin.begin(), volume_origin.end()));
+  _support = boundaries.support;
+  _support_stiffness = std::make_shared<fem::Constant<double>>(0.0);
+  _support_damping = std::make_shared<fem::Constant<double>>(0.0);
+  for (auto& lid : _lids)
+    lid = std::make_shared<fem::Constant<double>>(0.0);
+  _u_support = std::make_shared<fem::Function<double>>(V);
 
   u_old = std::make_shared<fem::Function<double>>(V);
   v_old = std::make_shared<fem::Function<double>>(V);
@@ -137,13 +148,17 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
   coeffs["v_old"] = v_old;
   coeffs["a_old"] = a_old;
   coeffs["surface_profile"] = surface_profile;
+  coeffs["u_support"] = _u_support;
   for (auto& [name, f] : fields)
     coeffs[name] = f;
-  const std::map<std::string, std::shared_ptr<const fem::Constant<double>>> loads
+  // Every form takes the constants it names from one map.
+  std::map<std::string, std::shared_ptr<const fem::Constant<double>>> constants
       = {{"p_cavity_1", _p_cavities[0]}, {"p_cavity_2", _p_cavities[1]},
-         {"p_surface", _p_surface}};
-  auto constants = loads;
+         {"p_surface", _p_surface},       {"x0", _x0},
+         {"lid_1", _lids[0]},             {"lid_2", _lids[1]},
+         {"support_stiffness", _support_stiffness}, {"support_damping", _support_damping}};
   constants.insert(_time.begin(), _time.end());
+  const auto& loads = constants;
   const std::map<fem::IntegralType, const mesh::MeshTags<int>*> subdomains
       = {{fem::IntegralType::cell, _law_tags.get()},
          {fem::IntegralType::exterior_facet, _load_tags.get()}};
@@ -169,16 +184,29 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
   for (std::size_t c = 0; c < boundaries.cavities.size(); ++c)
   {
     _volumes.push_back(std::make_shared<fem::Form<double>>(fem::create_form<double>(
-        *k.volumes[c], {}, pick(*k.volumes[c]), {{"x0", _x0}}, subdomains, m.mesh)));
+        *k.volumes[c], {}, pick(*k.volumes[c]), constants, subdomains, m.mesh)));
     _cavity_loads.push_back(std::make_shared<fem::Form<double>>(fem::create_form<double>(
-        *k.cavity_loads[c], {V}, pick(*k.cavity_loads[c]), {}, subdomains)));
+        *k.cavity_loads[c], {V}, pick(*k.cavity_loads[c]), constants, subdomains)));
     _dvolumes.push_back(std::make_shared<fem::Form<double>>(fem::create_form<double>(
-        *k.dvolumes[c], {V}, pick(*k.dvolumes[c]), {{"x0", _x0}}, subdomains)));
+        *k.dvolumes[c], {V}, pick(*k.dvolumes[c]), constants, subdomains)));
     _cavity_loads_dynamic.push_back(std::make_shared<fem::Form<double>>(
         fem::create_form<double>(*k.cavity_loads_dynamic[c], {V},
-                                 pick(*k.cavity_loads_dynamic[c]), {{"alpha_f", _time["alpha_f"]}},
-                                 subdomains)));
+                                 pick(*k.cavity_loads_dynamic[c]), constants, subdomains)));
   }
+  _support_area = std::make_shared<fem::Form<double>>(fem::create_form<double>(
+      *k.support_area, {}, std::map<std::string, std::shared_ptr<const fem::Function<double>>>{},
+      std::map<std::string, std::shared_ptr<const fem::Constant<double>>>{}, subdomains,
+      m.mesh));
+  // The lids: each cavity's opening on the cut, relative to the cut's area.
+  double cut_area = fem::assemble_scalar(*_support_area);
+  MPI_Allreduce(MPI_IN_PLACE, &cut_area, 1, MPI_DOUBLE, MPI_SUM, m.mesh->comm());
+  for (std::size_t c = 0; c < boundaries.lids.size() && c < _lids.size(); ++c)
+    if (boundaries.lids[c] > 0)
+    {
+      if (cut_area <= 0)
+        throw std::invalid_argument("a cavity has a lid but the model no fixed face");
+      _lids[c]->value = {boundaries.lids[c] / cut_area};
+    }
   _von_mises = std::make_shared<fem::Expression<double>>(
       fem::create_expression<double>(*k.von_mises, coeffs, {}, m.mesh));
   _det_F = std::make_shared<fem::Expression<double>>(
@@ -217,9 +245,10 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
       axes.insert(axis);
     auto Vi = V->sub({axis});
     auto dofs = fem::locate_dofs_topological(*Vi, 2, facets_of(g));
-    _bcs.push_back(
+    _symmetry_bcs.push_back(
         std::make_shared<fem::DirichletBC<double>>(0.0, std::move(dofs), Vi));
   }
+  _bcs.insert(_bcs.end(), _symmetry_bcs.begin(), _symmetry_bcs.end());
   _symmetry_factor = 1 << axes.size();
 }
 
@@ -244,6 +273,13 @@ void Problem::residual(la::Vector<double>& b)
   std::fill(b.mutable_array().begin(), b.mutable_array().end(), 0.0);
   fem::assemble_vector<double>(b.mutable_array(), _dynamic ? *_R_dynamic : *_R);
   b.scatter_rev(std::plus<double>());
+  if (_dynamic && _preload)
+  {
+    const auto preload = _preload->array();
+    auto values = b.mutable_array();
+    for (std::size_t i = 0; i < preload.size(); ++i)
+      values[i] -= preload[i];
+  }
   fem::set_bc<double>(b.mutable_array(), _bcs, u->x()->array(), -1.0);
 }
 
@@ -291,6 +327,44 @@ void Problem::set_time_step(const TimeStep& step)
 
 void Problem::start_dynamics(const TimeStep& step)
 {
+  if (_support && !_dynamic)
+  {
+    // The clamp's reaction: the quasi-static residual on the clamped dofs
+    // (owned), which the support keeps as a dead load.
+    std::vector<std::int8_t> clamped = dirichlet_marker();
+    {
+      std::vector<std::int8_t> symmetry(clamped.size(), 0);
+      for (const auto& bc : _symmetry_bcs)
+        bc->mark_dofs(symmetry);
+      for (std::size_t i = 0; i < clamped.size(); ++i)
+        clamped[i] = clamped[i] && !symmetry[i];
+    }
+    la::Vector<double> b(u->x()->map(), u->x()->bs());
+    fem::assemble_vector<double>(b.mutable_array(), *_R);
+    b.scatter_rev(std::plus<double>());
+    const std::size_t owned = b.map()->size_local() * b.bs();
+    _preload.emplace(u->x()->map(), u->x()->bs());
+    auto preload = _preload->mutable_array();
+    std::fill(preload.begin(), preload.end(), 0.0);
+    _preload_force = {0, 0, 0};
+    for (std::size_t i = 0; i < owned; ++i)
+      if (clamped[i])
+      {
+        preload[i] = b.array()[i];
+        _preload_force[i % 3] -= b.array()[i];
+      }
+    MPI_Allreduce(MPI_IN_PLACE, _preload_force.data(), 3, MPI_DOUBLE, MPI_SUM,
+                  u->function_space()->mesh()->comm());
+    for (double& f : _preload_force)
+      f *= _symmetry_factor;
+    // Springs and dashpots per unit area of the whole model's cut.
+    const double area = whole_model({_support_area})[0];
+    _support_stiffness->value = {_support->stiffness / area};
+    _support_damping->value = {_support->damping / area};
+    std::copy(u->x()->array().begin(), u->x()->array().end(),
+              _u_support->x()->mutable_array().begin());
+    _bcs = _symmetry_bcs;
+  }
   set_time_step(step);
   std::copy(u->x()->array().begin(), u->x()->array().end(),
             u_old->x()->mutable_array().begin());

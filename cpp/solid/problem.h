@@ -4,6 +4,7 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <dolfinx/fem/Constant.h>
@@ -20,14 +21,29 @@
 namespace nct::solid
 {
 
+/// The support of the fixed groups in the dynamics (forms/support.py):
+/// springs and dashpots of the whole model's stiffness and damping, spread
+/// evenly over the groups' area.
+struct Support
+{
+  double stiffness = 0; ///< K [N/mm]
+  double damping = 0;   ///< C [N ms/mm]
+};
+
 /// Facet groups (tags of mesh::Tagged::facets) by boundary condition.
 struct Boundaries
 {
-  std::vector<std::int32_t> fixed;        ///< u = 0
+  std::vector<std::int32_t> fixed;        ///< u = 0 (clamped), or the support's
   std::vector<std::int32_t> symmetry;     ///< u . n = 0 on axis-aligned planes
   /// Walls of up to two cavities (each a list of groups): their pressures act here
   std::vector<std::vector<std::int32_t>> cavities;
   std::vector<std::int32_t> surface_load; ///< the surface pressure acts here
+  /// Per cavity: the area [mm^2, meshed part] of its lid, the opening it
+  /// has on the fixed groups' plane (forms/support.py); 0 or none: no lid.
+  std::vector<double> lids;
+  /// Springs and dashpots on the fixed groups from the start of the
+  /// dynamics; none: clamped throughout.
+  std::optional<Support> support;
 };
 
 /// A time step of the generalised-alpha scheme (forms/dynamics.py).
@@ -84,8 +100,13 @@ public:
   /// b = dV_c/du of the meshed part of cavity c (no symmetry factor).
   void volume_derivative(std::size_t c, dolfinx::la::Vector<double>& b);
 
-  /// Switch to dynamics from rest at the current u (v = a = 0).
+  /// Switch to dynamics from rest at the current u (v = a = 0). With a
+  /// support, its springs and dashpots replace the clamp, which leaves
+  /// them its reaction as a dead load: the rest stays at rest.
   void start_dynamics(const TimeStep& step);
+  /// The whole model's force [N] the clamp exerted on the fixed groups
+  /// when the support took over (zero before, or without a support).
+  std::array<double, 3> support_preload() const { return _preload_force; }
   /// Change the time step (dynamics only).
   void set_time_step(const TimeStep& step);
   /// After a converged step: a and v from the Newmark updates, then the
@@ -170,8 +191,18 @@ private:
   /// Of every rank's place, the one with the smallest value, on every rank.
   Place gather(const Place& local) const;
   std::vector<std::shared_ptr<dolfinx::fem::Constant<double>>> _p_cavities;
-  std::shared_ptr<dolfinx::fem::Constant<double>> _p_surface, _x0;
-  std::vector<std::shared_ptr<const dolfinx::fem::DirichletBC<double>>> _bcs;
+  std::shared_ptr<dolfinx::fem::Constant<double>> _p_surface, _x0, _support_stiffness,
+      _support_damping;
+  std::array<std::shared_ptr<dolfinx::fem::Constant<double>>, 2> _lids;
+  /// The Dirichlet conditions in force: the clamp's and the symmetry
+  /// planes'; the symmetry planes' alone once a support holds the model.
+  std::vector<std::shared_ptr<const dolfinx::fem::DirichletBC<double>>> _bcs, _symmetry_bcs;
+  std::optional<Support> _support;
+  std::shared_ptr<dolfinx::fem::Function<double>> _u_support;
+  /// The clamp's reaction, taken over by the support (owned entries).
+  std::optional<dolfinx::la::Vector<double>> _preload;
+  std::array<double, 3> _preload_force{};
+  std::shared_ptr<dolfinx::fem::Form<double>> _support_area;
   std::shared_ptr<dolfinx::mesh::MeshTags<std::int32_t>> _law_tags, _load_tags;
   int _symmetry_factor = 1;
   std::vector<double> _profile_points; ///< reference points of surface_profile's dofs
