@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""What accuracy costs in time (design.md section 11) on the default puff.
+"""What accuracy costs in time (design.md section 11) on a puff scene.
 
-Runs scenes/default.toml over the knobs that trade accuracy for time, one
+Runs a scene (scenes/default.toml unless --scene) over the knobs that trade accuracy for time, one
 at a time from the default (3 layers, P2, dt 0.5 ms): elements through the
 thickness (3-6), the time step (0.5, 0.25, 0.1 ms) and the element degree
 (1, 2 at every layer count), plus the finest run (6 layers, P2, dt 0.1 ms)
@@ -9,7 +9,7 @@ as the reference. Writes study.csv and study.png (wall time against the
 error in deflection amplitude, peak distance and HC time relative to the
 reference) and prints the table.
 
-Usage: scripts/study-accuracy.py [--ranks N] [--out DIR] [--quick]
+Usage: scripts/study-accuracy.py [--scene SCENE] [--ranks N] [--out DIR] [--quick]
 A finished case (its summary.json present) is not run again.
 """
 import argparse
@@ -39,12 +39,12 @@ def cases(quick):
     return runs
 
 
-def run(out, ranks, name, layers, degree, dt):
+def run(scene, out, ranks, name, layers, degree, dt):
     folder = os.path.join(out, name)
     summary = os.path.join(folder, "summary.json")
     if not os.path.exists(summary):
         cmd = ["mpirun", "-n", str(ranks), os.path.join(ROOT, "build", "nct"), "run",
-               os.path.join(ROOT, "scenes", "default.toml"), "--out", folder,
+               scene, "--out", folder,
                "--set", f"mesh.layers={layers}", "--set", f"fem.degree={degree}",
                "--set", f"dynamics.dt={dt}", "--set", "output.fields=false"]
         with open(folder + ".log", "w") as log:
@@ -59,6 +59,7 @@ def run(out, ranks, name, layers, degree, dt):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--scene", default=os.path.join(ROOT, "scenes", "default.toml"))
     p.add_argument("--ranks", type=int, default=2)
     p.add_argument("--out", default=os.path.join(ROOT, "runs", "study-accuracy"))
     p.add_argument("--quick", action="store_true", help="three small cases (a smoke test)")
@@ -70,7 +71,7 @@ def main():
 
     rows = []
     for name, layers, degree, dt in cases(a.quick):
-        s = run(a.out, a.ranks, name, layers, degree, dt)
+        s = run(os.path.abspath(a.scene), a.out, a.ranks, name, layers, degree, dt)
         if s is None:
             if not rows:
                 sys.exit(f"the reference {name} failed: no errors can be measured")
