@@ -20,7 +20,7 @@ BEGIN, END = "<!-- hard-cases:begin -->", "<!-- hard-cases:end -->"
 
 # What each case changes (tests/CMakeLists.txt holds the keys).
 CASES = {
-    "reference": "scenes/default.toml as shipped (kappa/mu = 50, k2 = 100, IOP 15 mmHg)",
+    "reference": "scenes/puff-gaussian.toml as shipped (kappa/mu = 50, k2 = 100, IOP 15 mmHg)",
     "bulk_1e2": "kappa/mu = 1e2 in every tissue",
     "bulk_1e3": "kappa/mu = 1e3",
     "bulk_1e4": "kappa/mu = 1e4",
