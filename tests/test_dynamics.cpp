@@ -144,7 +144,7 @@ TEST(Support, RigidBodyOnSpringsVibratesAtTheClosedForm)
   const double rho = 1e-3, K = 1.0, C = 0.004, alpha = 0.2; // g/mm^3, N/mm, N ms/mm, 1/ms
   auto s = nct::scene::Scene::load(
       std::filesystem::path(NCT_SOURCE_DIR) / "tests/scenes/hgo_uniaxial.toml",
-      {"material.tissue.model=\"neo_hookean\"", "material.tissue.c10=1000.0",
+      {"fem.degree=1", "material.tissue.model=\"neo_hookean\"", "material.tissue.c10=1000.0",
        "material.tissue.kappa=10000.0", "material.tissue.density=" + std::to_string(rho),
        "boundary.symmetry=[\"x0\", \"z0\"]", "boundary.fixed=[\"y0\"]",
        "boundary.surface_load=[\"y1\"]", "support.model=\"springs\"",
@@ -264,7 +264,7 @@ TEST(Puff, ClosedEyeThroughThePuff)
   EXPECT_LT(std::abs(summary["whole_eye_motion_hc_mm"].get<double>()), 0.1 * da);
 }
 
-// The default scene on a coarse mesh: the measured pulse on the eye held
+// The default scene on a coarse (P1) mesh: the measured pulse on the eye held
 // by the orbit's springs and dashpots. The closed humor keeps its volume;
 // the eye at rest does not move when the springs take over from the
 // clamp; the frames within the pulse's hold see its peak; the whole eye
@@ -273,7 +273,7 @@ TEST(Puff, ClosedEyeThroughThePuff)
 TEST(Puff, MeasuredPulseOnTheOrbit)
 {
   auto summary = run_scene("scenes/default.toml", "puff_measured",
-                           {"mesh.layers=2", "output.fields=false", "solver.atol=1e-11"});
+                           {"fem.degree=1", "output.fields=false", "solver.atol=1e-11"});
   ASSERT_EQ(summary["status"], "converged");
   const double held = summary["cavity_volume_closed_mm3"].get<double>();
   double worst = 0;

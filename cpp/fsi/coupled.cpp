@@ -83,7 +83,7 @@ Coupled::Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem&
       std::vector<solver::Monolithic::Field>{{"solid", solid.u, std::nullopt},
                                              {"air", air.up, std::nullopt},
                                              {"mesh_motion", motion.d, motion.active()}});
-  _solid_held = solid.dirichlet_marker();
+  _solid_held = solid.dynamic_dirichlet_marker(); // the coupled system runs in the dynamics
   _air_held = air.dirichlet_marker();
   _b_solid = std::make_unique<la::Vector<double>>(solid.u->x()->map(), solid.u->x()->bs());
   _b_air = std::make_unique<la::Vector<double>>(air.up->x()->map(), air.up->x()->bs());

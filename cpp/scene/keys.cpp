@@ -505,9 +505,6 @@ void check_consistency(const Scene& s)
 
   if (s.string("support.model") == "springs")
   {
-    if (load == "fsi")
-      fail("key 'support.model': \"springs\" is not coupled with puff.load = \"fsi\" yet "
-           "(the coupled system fixes its clamped rows when it is built); use \"clamped\"");
     if (!eye && s.strings("boundary.fixed").empty())
       fail("key 'support.model': \"springs\" act on boundary.fixed, which names no group");
   }

@@ -410,6 +410,16 @@ std::vector<std::int8_t> Problem::dirichlet_marker() const
   return marker;
 }
 
+std::vector<std::int8_t> Problem::dynamic_dirichlet_marker() const
+{
+  if (!_support || _dynamic)
+    return dirichlet_marker();
+  std::vector<std::int8_t> marker(dirichlet_marker().size(), 0);
+  for (const auto& bc : _symmetry_bcs)
+    bc->mark_dofs(marker);
+  return marker;
+}
+
 std::vector<double>
 Problem::whole_model(const std::vector<std::shared_ptr<fem::Form<double>>>& forms) const
 {

@@ -125,6 +125,9 @@ public:
   /// Per local scalar entry of u (owned and ghost): 1 on a Dirichlet dof
   /// (whose value is always zero).
   std::vector<std::int8_t> dirichlet_marker() const;
+  /// The same for the dynamics, before they start: with a support, the
+  /// symmetry planes' dofs only (the springs free the clamped ones).
+  std::vector<std::int8_t> dynamic_dirichlet_marker() const;
   /// Stored energy at u and kinetic energy at v_old [N mm = mJ], whole model
   /// (times the symmetry factor).
   double strain_energy() const;
