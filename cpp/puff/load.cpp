@@ -94,9 +94,9 @@ RadialProfile RadialProfile::read(const std::filesystem::path& file)
 
 double RadialProfile::operator()(double r) const
 {
-  const auto [i, w] = locate(_r, r);
   if (_r.size() == 1)
     return _f[0];
+  const auto [i, w] = locate(_r, r);
   return (1 - w) * _f[i] + w * _f[i + 1];
 }
 

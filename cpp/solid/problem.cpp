@@ -158,7 +158,6 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
          {"lid_1", _lids[0]},             {"lid_2", _lids[1]},
          {"support_stiffness", _support_stiffness}, {"support_damping", _support_damping}};
   constants.insert(_time.begin(), _time.end());
-  const auto& loads = constants;
   const std::map<fem::IntegralType, const mesh::MeshTags<int>*> subdomains
       = {{fem::IntegralType::cell, _law_tags.get()},
          {fem::IntegralType::exterior_facet, _load_tags.get()}};
@@ -170,9 +169,9 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
     return c;
   };
   _R = std::make_shared<fem::Form<double>>(
-      fem::create_form<double>(*k.R, {V}, pick(*k.R), loads, subdomains));
+      fem::create_form<double>(*k.R, {V}, pick(*k.R), constants, subdomains));
   _J = std::make_shared<fem::Form<double>>(
-      fem::create_form<double>(*k.J, {V, V}, pick(*k.J), loads, subdomains));
+      fem::create_form<double>(*k.J, {V, V}, pick(*k.J), constants, subdomains));
   _R_dynamic = std::make_shared<fem::Form<double>>(
       fem::create_form<double>(*k.R_dynamic, {V}, pick(*k.R_dynamic), constants, subdomains));
   _J_dynamic = std::make_shared<fem::Form<double>>(fem::create_form<double>(
@@ -329,16 +328,9 @@ void Problem::start_dynamics(const TimeStep& step)
 {
   if (_support && !_dynamic)
   {
-    // The clamp's reaction: the quasi-static residual on the clamped dofs
-    // (owned), which the support keeps as a dead load.
-    std::vector<std::int8_t> clamped = dirichlet_marker();
-    {
-      std::vector<std::int8_t> symmetry(clamped.size(), 0);
-      for (const auto& bc : _symmetry_bcs)
-        bc->mark_dofs(symmetry);
-      for (std::size_t i = 0; i < clamped.size(); ++i)
-        clamped[i] = clamped[i] && !symmetry[i];
-    }
+    // The clamp's reaction: the quasi-static residual on the dofs the
+    // springs free (owned), which the support keeps as a dead load.
+    const auto held = dirichlet_marker(), still_held = dynamic_dirichlet_marker();
     la::Vector<double> b(u->x()->map(), u->x()->bs());
     fem::assemble_vector<double>(b.mutable_array(), *_R);
     b.scatter_rev(std::plus<double>());
@@ -346,17 +338,9 @@ void Problem::start_dynamics(const TimeStep& step)
     _preload.emplace(u->x()->map(), u->x()->bs());
     auto preload = _preload->mutable_array();
     std::fill(preload.begin(), preload.end(), 0.0);
-    _preload_force = {0, 0, 0};
     for (std::size_t i = 0; i < owned; ++i)
-      if (clamped[i])
-      {
+      if (held[i] && !still_held[i])
         preload[i] = b.array()[i];
-        _preload_force[i % 3] -= b.array()[i];
-      }
-    MPI_Allreduce(MPI_IN_PLACE, _preload_force.data(), 3, MPI_DOUBLE, MPI_SUM,
-                  u->function_space()->mesh()->comm());
-    for (double& f : _preload_force)
-      f *= _symmetry_factor;
     // Springs and dashpots per unit area of the whole model's cut.
     const double area = whole_model({_support_area})[0];
     _support_stiffness->value = {_support->stiffness / area};

@@ -104,9 +104,6 @@ public:
   /// support, its springs and dashpots replace the clamp, which leaves
   /// them its reaction as a dead load: the rest stays at rest.
   void start_dynamics(const TimeStep& step);
-  /// The whole model's force [N] the clamp exerted on the fixed groups
-  /// when the support took over (zero before, or without a support).
-  std::array<double, 3> support_preload() const { return _preload_force; }
   /// Change the time step (dynamics only).
   void set_time_step(const TimeStep& step);
   /// After a converged step: a and v from the Newmark updates, then the
@@ -204,7 +201,6 @@ private:
   std::shared_ptr<dolfinx::fem::Function<double>> _u_support;
   /// The clamp's reaction, taken over by the support (owned entries).
   std::optional<dolfinx::la::Vector<double>> _preload;
-  std::array<double, 3> _preload_force{};
   std::shared_ptr<dolfinx::fem::Form<double>> _support_area;
   std::shared_ptr<dolfinx::mesh::MeshTags<std::int32_t>> _law_tags, _load_tags;
   int _symmetry_factor = 1;
