@@ -198,6 +198,7 @@ Stepper::Dynamics solid_dynamics(RunState& s)
 class ZeroPressure : public Phase
 {
 public:
+  const char* name() const override { return "zero_pressure"; }
   void run(RunState& s) override
   {
     auto& problem = *s.model.problem;
@@ -214,10 +215,10 @@ public:
     const double iop = s.scene.real("inflate.iop") * mmHg;
     bool first = true;
     // Inflate the current geometry to the IOP: one Newton solve from the
-    // last solution (the geometry moved little), else a ramp from rest.
+    // last solution (the geometry moved little, and a kept factorisation
+    // of the last geometry's Jacobian serves), else a ramp from rest.
     auto pressurise = [&]
     {
-      newton.reset();
       if (!first)
       {
         auto report = newton.solve(s.open->system(), s.settings);
@@ -275,6 +276,7 @@ public:
 class Inflate : public Phase
 {
 public:
+  const char* name() const override { return "inflate"; }
   void run(RunState& s) override
   {
     auto& problem = *s.model.problem;
@@ -305,6 +307,7 @@ public:
 class Close : public Phase
 {
 public:
+  const char* name() const override { return "close"; }
   void run(RunState& s) override
   {
     s.closed.emplace(*s.model.problem, s.open_pressures);
@@ -323,6 +326,7 @@ public:
 class Press : public Phase
 {
 public:
+  const char* name() const override { return "press"; }
   void run(RunState& s) override
   {
     auto& problem = *s.model.problem;
@@ -345,6 +349,7 @@ public:
 class Rest : public Phase
 {
 public:
+  const char* name() const override { return "rest"; }
   /// `columns`: the puff's state columns, at rest (the frames' columns
   /// are the same at every step).
   explicit Rest(biomarkers::Columns columns) : _columns(std::move(columns)) {}
@@ -379,6 +384,7 @@ private:
 class PrescribedPuff : public Phase
 {
 public:
+  const char* name() const override { return "puff"; }
   void run(RunState& s) override
   {
     s.start_dynamics();
@@ -408,6 +414,7 @@ public:
 class AirPuff : public Phase
 {
 public:
+  const char* name() const override { return "puff"; }
   void run(RunState& s) override
   {
     auto& air = *s.model.air;
@@ -423,7 +430,7 @@ public:
     // Full Newton steps: the energy line search has no energy to follow here.
     solver::NewtonSettings settings = s.settings;
     settings.line_search = false;
-    Stepper stepper(settings, s.scene.integer("solver.max_step_cuts"), s.folder);
+    Stepper stepper = make_stepper(s.scene, settings, s.folder);
     std::vector<double> no_border;
     const solver::System system{air.up->x().get(), &no_border,
                                 [&](auto& b, auto&) { air.residual(b); },
@@ -545,6 +552,7 @@ private:
 class CoupledPuff : public Phase
 {
 public:
+  const char* name() const override { return "puff"; }
   void run(RunState& s) override
   {
     auto& m = s.model;

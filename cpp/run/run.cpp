@@ -82,6 +82,41 @@ void summarise_solid(RunState& s)
   }
 }
 
+/// A solver's timings and counts as the summary's profile holds them.
+nlohmann::json profile(const solver::Timings& t)
+{
+  return {{"residual_s", t.residual},
+          {"residuals", t.residuals},
+          {"line_search_residuals", t.line_search_residuals},
+          {"jacobian_s", t.jacobian},
+          {"jacobians", t.jacobians},
+          {"border_assemble_s", t.border_assemble},
+          {"factorise_s", t.factorise},
+          {"factorisations", t.factorisations},
+          {"solve_s", t.solve},
+          {"linear_solves", t.linear_solves},
+          {"krylov_iterations", t.krylov_iterations},
+          {"border_s", t.border}};
+}
+
+/// Run a phase and add its profile (wall time, where it went) to the summary's.
+void run_phase(Phase& phase, RunState& s)
+{
+  const double wall = MPI_Wtime(), output = s.t_output();
+  const solver::Timings before = s.timings();
+  const int newton = s.stepper.newton_iterations, cuts = s.stepper.cuts;
+  const std::size_t steps = s.summary["steps"].size();
+  phase.run(s);
+  nlohmann::json p = profile(s.timings() - before);
+  p["phase"] = phase.name();
+  p["wall_s"] = MPI_Wtime() - wall;
+  p["output_s"] = s.t_output() - output;
+  p["newton_iterations"] = s.stepper.newton_iterations - newton;
+  p["step_cuts"] = s.stepper.cuts - cuts;
+  p["steps"] = s.summary["steps"].size() - steps;
+  s.summary["profile"].push_back(p);
+}
+
 /// The run's counts and timings into the summary, written to summary.json.
 void finish(RunState& s, const std::string& status)
 {
@@ -90,21 +125,23 @@ void finish(RunState& s, const std::string& status)
   s.summary["newton_iterations"] = s.stepper.newton_iterations;
   s.summary["linear_solves"] = t.linear_solves;
   s.summary["jacobians"] = t.jacobians;
+  s.summary["factorisations"] = t.factorisations;
+  s.summary["krylov_iterations"] = t.krylov_iterations;
   s.summary["step_cuts"] = s.stepper.cuts;
   s.summary["wall_s"] = MPI_Wtime() - s.wall_start;
   s.summary["timings_s"] = {{"mesh", s.model.t_mesh},
                             {"setup", s.model.t_setup},
-                            {"assemble", t.assemble},
-                            {"linear_solve", t.solve},
+                            {"assemble", t.assemble()},
+                            {"linear_solve", t.linear()},
                             {"border", t.border},
                             {"output", s.t_output()}};
   // Each Newton system's own (the solid's, the air's, the coupled one's).
   for (const auto& [name, u] : s.solver_timings())
-    s.summary["timings_s"]["solvers"][name] = {{"assemble", u.assemble},
-                                               {"linear_solve", u.solve},
-                                               {"border", u.border},
-                                               {"jacobians", u.jacobians},
-                                               {"linear_solves", u.linear_solves}};
+  {
+    s.summary["timings_s"]["solvers"][name] = profile(u);
+    s.summary["timings_s"]["solvers"][name]["assemble"] = u.assemble();
+    s.summary["timings_s"]["solvers"][name]["linear_solve"] = u.linear();
+  }
   s.folder.write_text("summary.json", s.summary.dump(2) + "\n");
 }
 
@@ -134,7 +171,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
   // Linear solver options: defaults, then the scene's, then the command line's.
   auto petsc = s.options("solver.petsc");
   petsc.insert(petsc.end(), options.petsc.begin(), options.petsc.end());
-  solver::set_petsc_options(petsc);
+  solver::set_petsc_options(petsc, newton_settings(s).jacobian);
 
   Model model = make_model(comm, s);
   RunState state(comm, s, folder, model);
@@ -153,8 +190,9 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
   }
   try
   {
+    state.summary["profile"] = nlohmann::json::array();
     for (const auto& phase : phases)
-      phase->run(state);
+      run_phase(*phase, state);
   }
   catch (const std::exception& e) // Diverged, or a biomarker that cannot be taken
   {
@@ -175,9 +213,11 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
   finish(state, "converged");
   const solver::Timings t = state.timings();
   folder.log(format("done: %d Newton iterations, %d step cuts; assemble %.2f s, linear solve "
-                    "%.2f s (border %.2f s), output %.2f s, total %.2f s",
-                    state.stepper.newton_iterations, state.stepper.cuts, t.assemble, t.solve,
-                    t.border, state.t_output(), state.summary["wall_s"].get<double>()));
+                    "%.2f s (%d factorisations %.2f s; border %.2f s), output %.2f s, total "
+                    "%.2f s",
+                    state.stepper.newton_iterations, state.stepper.cuts, t.assemble(),
+                    t.linear(), t.factorisations, t.factorise, t.border, state.t_output(),
+                    state.summary["wall_s"].get<double>()));
   return state.summary;
 }
 

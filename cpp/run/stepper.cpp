@@ -112,22 +112,25 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
                     const std::function<void(double)>& load,
                     const std::function<void(double, double, const solver::NewtonReport&)>& done)
 {
-  Saved saved(system);
+  // The last two converged states: `saved` at t, `before` at t_before.
+  Saved saved(system), before(system);
   const double floor = std::ldexp(nominal, -_max_cuts), end = t0 + duration;
-  double t = t0, dt = nominal, last_dt = -1;
+  double t = t0, dt = nominal, last_dt = -1, t_before = 0;
+  bool two = false; // are there two states to extrapolate from?
   int successes = 0;
   while (t < end - 1e-9 * nominal)
   {
     const double step = std::min(dt, end - t);
     // Every step: multistep coefficients depend on the steps before.
     problem.set_time_step(step);
-    if (step != last_dt)
-    {
-      // The Jacobian depends on dt: a kept factorisation is stale.
+    // The Jacobian depends on dt: a kept factorisation is stale, unless
+    // it only preconditions the exact Jacobian (krylov).
+    if (step != last_dt && _settings.jacobian != solver::Jacobian::krylov)
       newton.reset();
-      last_dt = step;
-    }
+    last_dt = step;
     load(t + problem.load_level() * step);
+    if (_predictor == Predictor::extrapolate && two)
+      saved.extrapolate(before, step / (t - t_before), system);
     solver::NewtonReport report;
     if (!attempt(newton, format("%s t = %.4f ms, dt = %.4g ms", phase.c_str(), t + step, step),
                  system, report))
@@ -145,6 +148,9 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
       continue;
     }
     problem.advance();
+    before.keep(saved);
+    t_before = t;
+    two = true;
     t += step;
     saved.keep(system);
     if (++successes >= 2 && dt < nominal)

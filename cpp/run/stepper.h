@@ -19,8 +19,17 @@ namespace nct
 class Stepper
 {
 public:
-  Stepper(const solver::NewtonSettings& settings, int max_cuts, io::RunFolder& folder)
-      : _settings(settings), _max_cuts(max_cuts), _folder(folder)
+  /// A time step's first Newton iterate: the last converged state, or
+  /// its linear extrapolation through the two before.
+  enum class Predictor
+  {
+    previous,
+    extrapolate
+  };
+
+  Stepper(const solver::NewtonSettings& settings, int max_cuts, Predictor predictor,
+          io::RunFolder& folder)
+      : _settings(settings), _max_cuts(max_cuts), _predictor(predictor), _folder(folder)
   {
   }
 
@@ -59,6 +68,7 @@ private:
 
   solver::NewtonSettings _settings;
   int _max_cuts;
+  Predictor _predictor;
   io::RunFolder& _folder;
 };
 

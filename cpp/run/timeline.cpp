@@ -76,12 +76,37 @@ const nlohmann::json& SolidOutput::step(nlohmann::json step, double time,
   return _steps.back();
 }
 
+solver::NewtonSettings newton_settings(const scene::Scene& s)
+{
+  solver::NewtonSettings n;
+  n.max_iterations = s.integer("solver.max_iterations");
+  n.rtol = s.real("solver.rtol");
+  n.atol = s.real("solver.atol");
+  n.increment_tol = s.real("solver.increment_tol");
+  n.line_search = s.string("solver.line_search") == "energy";
+  const std::string jacobian = s.string("solver.jacobian");
+  n.jacobian = jacobian == "reuse"    ? solver::Jacobian::reuse
+               : jacobian == "krylov" ? solver::Jacobian::krylov
+                                      : solver::Jacobian::every_iteration;
+  n.reuse_contraction = s.real("solver.reuse_contraction");
+  n.krylov_refactorise = s.integer("solver.krylov_refactorise");
+  n.max_growth = s.real("solver.max_growth");
+  return n;
+}
+
+Stepper make_stepper(const scene::Scene& s, const solver::NewtonSettings& settings,
+                     io::RunFolder& folder)
+{
+  return Stepper(settings, s.integer("solver.max_step_cuts"),
+                 s.string("solver.predictor") == "extrapolate" ? Stepper::Predictor::extrapolate
+                                                                : Stepper::Predictor::previous,
+                 folder);
+}
+
 RunState::RunState(MPI_Comm comm, const scene::Scene& s, io::RunFolder& folder, Model& model)
     : comm(comm), scene(s), folder(folder), model(model),
-      settings{s.integer("solver.max_iterations"), s.real("solver.rtol"), s.real("solver.atol"),
-               s.string("solver.line_search") == "energy",
-               s.string("solver.jacobian") == "reuse", s.real("solver.max_growth")},
-      stepper(settings, s.integer("solver.max_step_cuts"), folder), wall_start(MPI_Wtime())
+      settings(newton_settings(s)),
+      stepper(make_stepper(s, settings, folder)), wall_start(MPI_Wtime())
 {
   summary["scene"] = s.file().string();
   int ranks = 1;
@@ -125,14 +150,7 @@ solver::Timings RunState::timings() const
 {
   solver::Timings t;
   for (auto& [name, s] : _solvers)
-  {
-    const auto& u = s.newton->timings;
-    t.assemble += u.assemble;
-    t.solve += u.solve;
-    t.linear_solves += u.linear_solves;
-    t.jacobians += u.jacobians;
-    t.border += u.border;
-  }
+    t += s.newton->timings;
   return t;
 }
 

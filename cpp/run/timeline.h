@@ -26,6 +26,13 @@
 namespace nct
 {
 
+/// The scene's Newton settings (solver.*).
+solver::NewtonSettings newton_settings(const scene::Scene& s);
+
+/// A stepper with the scene's step cutting and predictor (solver.*).
+Stepper make_stepper(const scene::Scene& s, const solver::NewtonSettings& settings,
+                     io::RunFolder& folder);
+
 /// The solid's record of a run: a line per converged step in the log and
 /// the summary's steps, its fields, the probes. Made once the reference
 /// geometry is final (after the zero-pressure phase).
@@ -142,6 +149,8 @@ class Phase
 public:
   virtual ~Phase() = default;
   virtual void run(RunState& state) = 0;
+  /// Its name in the log and the profile.
+  virtual const char* name() const = 0;
 };
 
 /// The phases a scene asks for, in order: zero pressure, inflate, close,

@@ -452,10 +452,27 @@ std::vector<Key> declare()
                "residual projected on the step (non-finite residuals halve it); "
                "none = full steps"});
   k.push_back({"solver.jacobian", K::choice, "\"reuse\"", "", -inf, inf,
-               {"reuse", "every_iteration"},
+               {"reuse", "every_iteration", "krylov"},
                "reuse = keep the factorised Jacobian while each Newton iteration cuts the "
-               "residual at least 4x (fewer factorisations); every_iteration = full Newton "
-               "(quadratic convergence)"});
+               "residual by solver.reuse_contraction (modified Newton, fewer factorisations); every_iteration = "
+               "full Newton (quadratic convergence, a factorisation per iteration); krylov = "
+               "full Newton whose linear solves are GMRES preconditioned by the last "
+               "factorisation, refactorised when GMRES needs more than "
+               "solver.krylov_refactorise iterations"});
+  k.push_back({"solver.reuse_contraction", K::real, "0.25", "", 0.01, 0.99, {},
+               "solver.jacobian = reuse: refactorise once a Newton iteration (after a solve's "
+               "first) cuts the residual norm by less than this factor"});
+  k.push_back({"solver.krylov_refactorise", K::integer, "10", "", 1, 1000, {},
+               "solver.jacobian = krylov: refactorise the preconditioner once a linear solve "
+               "needs more GMRES iterations than this"});
+  k.push_back({"solver.predictor", K::choice, "\"previous\"", "", -inf, inf,
+               {"previous", "extrapolate"},
+               "a time step's first Newton iterate: previous = the last converged state; "
+               "extrapolate = the line through the last two"});
+  k.push_back({"solver.increment_tol", K::real, "0", "mm", 0, 1, {},
+               "Newton also converges when its error estimate from the last two steps, "
+               "|dx| q/(1-q) with q the steps' ratio (max norm, the unknowns' units: mm, mm/ms, "
+               "MPa), is below this; 0 = off (the residual tests only)"});
   k.push_back({"solver.max_growth", K::real, "1e4", "", 2, 1e12, {},
                "Newton counts as diverging (and the step is cut) once the residual norm "
                "exceeds this multiple of its smallest value in the solve"});

@@ -23,6 +23,19 @@ double dot(const dolfinx::la::Vector<double>& a, const dolfinx::la::Vector<doubl
   return s;
 }
 
+/// The max norm of (x, y) over every rank.
+double max_norm(const dolfinx::la::Vector<double>& x, const std::vector<double>& y)
+{
+  const std::int32_t n = x.map()->size_local() * x.bs();
+  double m = 0;
+  for (std::int32_t i = 0; i < n; ++i)
+    m = std::max(m, std::abs(x.array()[i]));
+  for (double v : y)
+    m = std::max(m, std::abs(v));
+  MPI_Allreduce(MPI_IN_PLACE, &m, 1, MPI_DOUBLE, MPI_MAX, x.map()->comm());
+  return m;
+}
+
 /// x = S^-1 r for a small dense S (row-major), by Gaussian elimination
 /// with partial pivoting; NaN if S is singular.
 std::vector<double> solve_dense(std::vector<double> S, std::vector<double> r)
@@ -67,7 +80,31 @@ std::string format_growth(double smallest, double r, double limit)
 
 } // namespace
 
-void set_petsc_options(const std::vector<std::pair<std::string, std::string>>& options)
+Timings& Timings::operator+=(const Timings& o)
+{
+  residual += o.residual, residuals += o.residuals;
+  line_search_residuals += o.line_search_residuals;
+  jacobian += o.jacobian, jacobians += o.jacobians, border_assemble += o.border_assemble;
+  factorise += o.factorise, factorisations += o.factorisations;
+  solve += o.solve, linear_solves += o.linear_solves, krylov_iterations += o.krylov_iterations;
+  border += o.border;
+  return *this;
+}
+
+Timings Timings::operator-(const Timings& o) const
+{
+  Timings d = *this;
+  d.residual -= o.residual, d.residuals -= o.residuals;
+  d.line_search_residuals -= o.line_search_residuals;
+  d.jacobian -= o.jacobian, d.jacobians -= o.jacobians, d.border_assemble -= o.border_assemble;
+  d.factorise -= o.factorise, d.factorisations -= o.factorisations;
+  d.solve -= o.solve, d.linear_solves -= o.linear_solves;
+  d.krylov_iterations -= o.krylov_iterations, d.border -= o.border;
+  return d;
+}
+
+void set_petsc_options(const std::vector<std::pair<std::string, std::string>>& options,
+                       Jacobian jacobian)
 {
   // MUMPS with the PORD ordering: the fastest of AMD, AMF, QAMD, PORD and
   // MUMPS' automatic choice on the eye's shell meshes (scripts/benchmark.sh).
@@ -75,6 +112,15 @@ void set_petsc_options(const std::vector<std::pair<std::string, std::string>>& o
                                             {"pc_type", "lu"},
                                             {"pc_factor_mat_solver_type", "mumps"},
                                             {"mat_mumps_icntl_7", "4"}};
+  if (jacobian == Jacobian::krylov)
+  {
+    // Right preconditioning: the tolerance is on the true residual.
+    all["ksp_type"] = "gmres";
+    all["ksp_pc_side"] = "right";
+    all["ksp_rtol"] = "1e-8";
+    all["ksp_gmres_restart"] = "100";
+    all["ksp_max_it"] = "100";
+  }
   for (auto& [k, v] : options)
     all[k.rfind("-", 0) == 0 ? k.substr(1) : k] = v;
   for (auto& [k, v] : all)
@@ -104,7 +150,17 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
   NewtonReport report;
   Vector b(x.map(), x.bs()), dx(x.map(), x.bs()), x_old(x.map(), x.bs()),
       b_start(x.map(), x.bs());
-  std::vector<Vector> B(ny, b), C(ny, b), Z(ny, b);
+  // The border's C and Z are kept with the factorisation they were made
+  // with: a kept (modified Newton) Jacobian keeps its border too.
+  if (_Z.size() != ny || (ny > 0 && _Z[0].map() != x.map()))
+  {
+    _C.clear(), _Z.clear();
+    for (std::size_t i = 0; i < ny; ++i)
+      _C.push_back(b), _Z.push_back(b);
+    _border_current = false;
+  }
+  std::vector<Vector> B(ny, b);
+  std::vector<Vector>&C = _C, &Z = _Z;
   std::vector<double> g(ny), g_start(ny), y_old(ny), dy(ny);
   Vec b_petsc = dolfinx::la::petsc::create_vector_wrap(b);
   Vec dx_petsc = dolfinx::la::petsc::create_vector_wrap(dx);
@@ -119,7 +175,8 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
   {
     double t = MPI_Wtime();
     system.residual(b, g);
-    timings.assemble += MPI_Wtime() - t;
+    timings.residual += MPI_Wtime() - t;
+    ++timings.residuals;
     double r2 = dot(b, b);
     for (double gi : g)
       r2 += gi * gi;
@@ -133,15 +190,49 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
       s += dy[i] * c[i];
     return s;
   };
+  const bool krylov = settings.jacobian == Jacobian::krylov;
+  // A factorisation of the current Jacobian, A, as the KSP's preconditioner.
+  auto factorise = [&]
+  {
+    const double t = MPI_Wtime();
+    KSPSetReusePreconditioner(_ksp, PETSC_FALSE);
+    KSPSetOperators(_ksp, _A, _A);
+    KSPSetUp(_ksp);
+    timings.factorise += MPI_Wtime() - t;
+    ++timings.factorisations;
+    _factorised = _fresh = true;
+    _refactorise = false;
+  };
+  // sol = A^-1 rhs; under Jacobian::krylov a failed or slow solve
+  // refactorises (now, or at the next Jacobian).
   auto linear_solve = [&](Vec rhs, Vec sol)
   {
+    double t = MPI_Wtime();
     KSPSolve(_ksp, rhs, sol);
-    ++timings.linear_solves;
     KSPConvergedReason reason;
     KSPGetConvergedReason(_ksp, &reason);
+    PetscInt its = 0;
+    KSPGetIterationNumber(_ksp, &its);
+    ++timings.linear_solves;
+    timings.krylov_iterations += std::max<PetscInt>(its, 1);
+    timings.solve += MPI_Wtime() - t;
+    if (krylov && reason < 0 && !_fresh)
+    {
+      factorise();
+      t = MPI_Wtime();
+      KSPSolve(_ksp, rhs, sol);
+      KSPGetConvergedReason(_ksp, &reason);
+      KSPGetIterationNumber(_ksp, &its);
+      ++timings.linear_solves;
+      timings.krylov_iterations += its;
+      timings.solve += MPI_Wtime() - t;
+    }
+    if (krylov && its > settings.krylov_refactorise)
+      _refactorise = true;
     return reason;
   };
 
+  std::vector<double> step_sizes; // max norm of each taken step
   double r = assemble_residual();
   report.residuals.push_back(r);
   const double r0 = r;
@@ -165,29 +256,38 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
     // The first step of a solve is no test of the kept factorisation: from
     // new loads it often raises the residual norm even with the exact
     // Jacobian (a dynamic step's inertia, seen at every puff step).
-    const bool slow = n >= 3 && report.residuals[n - 1] > 0.25 * report.residuals[n - 2];
-    double t = MPI_Wtime();
-    if (!settings.reuse_jacobian || !_factorised || slow)
+    const bool slow
+        = n >= 3 && report.residuals[n - 1] > settings.reuse_contraction * report.residuals[n - 2];
+    const bool assemble = settings.jacobian != Jacobian::reuse || !_factorised || slow;
+    if (assemble)
     {
+      const double t = MPI_Wtime();
       system.jacobian(_A);
       ++timings.jacobians;
-      timings.assemble += MPI_Wtime() - t;
-      t = MPI_Wtime();
-      KSPSetOperators(_ksp, _A, _A);
-      _factorised = true;
+      timings.jacobian += MPI_Wtime() - t;
+      _fresh = false;
+      if (!krylov || !_factorised || _refactorise)
+        factorise();
+      else
+      {
+        // The new operator under the kept factorisation.
+        KSPSetReusePreconditioner(_ksp, PETSC_TRUE);
+        KSPSetOperators(_ksp, _A, _A);
+      }
     }
     KSPConvergedReason ksp_reason = linear_solve(b_petsc, dx_petsc);
-    timings.solve += MPI_Wtime() - t;
     if (ny > 0 && ksp_reason > 0)
     {
       // The border: Z = K^-1 B, then the Schur complement S = C Z.
       const double t_border = MPI_Wtime();
-      system.border(B, C);
-      const double t_solve = MPI_Wtime();
-      timings.assemble += t_solve - t_border;
-      for (std::size_t i = 0; i < ny && ksp_reason > 0; ++i)
-        ksp_reason = linear_solve(B_petsc[i], Z_petsc[i]);
-      timings.solve += MPI_Wtime() - t_solve;
+      if (assemble || !_border_current)
+      {
+        system.border(B, C);
+        timings.border_assemble += MPI_Wtime() - t_border;
+        for (std::size_t i = 0; i < ny && ksp_reason > 0; ++i)
+          ksp_reason = linear_solve(B_petsc[i], Z_petsc[i]);
+        _border_current = ksp_reason > 0;
+      }
       std::vector<double> S(ny * ny), rhs(ny);
       for (std::size_t i = 0; i < ny; ++i)
       {
@@ -248,6 +348,7 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
       return why;
     };
     double alpha = 1.0, r_new = take(alpha);
+    const int residuals_before = timings.residuals;
     std::string why = unusable(r_new);
     while (!why.empty() && alpha > 1.0 / 64)
       why = unusable(r_new = take(alpha /= 2));
@@ -277,9 +378,22 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
       if (!at_alpha)
         r_new = take(alpha);
     }
+    timings.line_search_residuals += timings.residuals - residuals_before;
     ++report.iterations;
     r = r_new;
     report.residuals.push_back(r);
+    // The increment test: with q the contraction of the last two steps,
+    // the distance to the solution is about |dx_k| q / (1 - q).
+    step_sizes.push_back(alpha * max_norm(dx, dy));
+    if (settings.increment_tol > 0 && step_sizes.size() >= 2 && std::isfinite(r))
+    {
+      const double last = step_sizes.back(), q = last / step_sizes[step_sizes.size() - 2];
+      if (q < 1 && last * q / (1 - q) <= settings.increment_tol)
+      {
+        report.converged = true;
+        break;
+      }
+    }
     const double smallest
         = *std::min_element(report.residuals.begin(), report.residuals.end());
     if (r > settings.max_growth * smallest)
@@ -295,7 +409,7 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
     VecDestroy(&Z_petsc[i]);
   }
   if (!report.converged)
-    _factorised = false; // the caller restarts elsewhere: start afresh
+    reset(); // the caller restarts elsewhere: start afresh
   return report;
 }
 

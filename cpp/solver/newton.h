@@ -12,17 +12,37 @@
 namespace nct::solver
 {
 
+/// How a Newton iteration gets its linear solve.
+enum class Jacobian
+{
+  /// Assemble and factorise the Jacobian at every iteration: Newton's
+  /// quadratic convergence at a factorisation per iteration.
+  every_iteration,
+  /// Keep the factorised Jacobian (across iterations and solves) while
+  /// each iteration after a solve's first cuts the residual norm by at
+  /// least `reuse_contraction`; refactorise otherwise (modified Newton).
+  reuse,
+  /// Assemble the Jacobian at every iteration and solve with the KSP
+  /// (GMRES) preconditioned by the last factorisation, kept across
+  /// iterations and solves; refactorise when a solve needs more than
+  /// `krylov_refactorise` iterations or fails (Newton-Krylov).
+  krylov,
+};
+
 /// Stopping and globalisation of one Newton solve.
 struct NewtonSettings
 {
   int max_iterations = 25;
   double rtol = 1e-9;       ///< relative to the first residual norm
   double atol = 1e-11;      ///< absolute residual norm
+  /// Converged also when the error estimate from the last two steps,
+  /// |dx_k| q / (1 - q) with q = |dx_k| / |dx_{k-1}| < 1 (max norms, in
+  /// the unknowns' units: mm for displacements), is below this; 0: off.
+  double increment_tol = 0;
   bool line_search = true;  ///< energy line search (else full steps)
-  /// Keep the factorised Jacobian (across iterations and solves) while
-  /// each iteration after a solve's first cuts the residual at least 4x;
-  /// refactorise otherwise.
-  bool reuse_jacobian = false;
+  Jacobian jacobian = Jacobian::every_iteration;
+  double reuse_contraction = 0.25; ///< Jacobian::reuse only
+  int krylov_refactorise = 10;     ///< Jacobian::krylov only
   /// The solve counts as diverging once the residual norm exceeds this
   /// multiple of its smallest value so far.
   double max_growth = 1e4;
@@ -37,19 +57,33 @@ struct NewtonReport
   std::string reason;            ///< why it stopped without converging
 };
 
-/// Wall time spent in assembly and in linear solves [s].
+/// Where a Newton solver's wall time went [s], with counts.
 struct Timings
 {
-  double assemble = 0;
-  double solve = 0;
+  double residual = 0;        ///< residual assemblies
+  int residuals = 0;          ///< of which the line search's:
+  int line_search_residuals = 0;
+  double jacobian = 0;        ///< Jacobian assemblies
+  int jacobians = 0;
+  double border_assemble = 0; ///< the bordered system's B and C
+  double factorise = 0;       ///< the preconditioner's set-up (LU: the factorisation)
+  int factorisations = 0;
+  double solve = 0;           ///< linear solves (LU: back-solves), the border's included
   int linear_solves = 0;
-  int jacobians = 0; ///< Jacobian assemblies (factorisations with a direct solver)
-  double border = 0; ///< of assemble and solve: the bordered system's extra work
+  int krylov_iterations = 0;  ///< summed over the linear solves (preonly: 1 each)
+  double border = 0;          ///< of the above: the bordered system's extra work
+
+  double assemble() const { return residual + jacobian + border_assemble; }
+  double linear() const { return factorise + solve; }
+  Timings& operator+=(const Timings& o);
+  Timings operator-(const Timings& o) const;
 };
 
-/// PETSc options in force: defaults (MUMPS LU), overridden by `options`
-/// in order, e.g. the scene's and then the command line's.
-void set_petsc_options(const std::vector<std::pair<std::string, std::string>>& options);
+/// PETSc options in force: defaults (MUMPS LU; with Jacobian::krylov
+/// right-preconditioned GMRES on it), overridden by `options` in order,
+/// e.g. the scene's and then the command line's.
+void set_petsc_options(const std::vector<std::pair<std::string, std::string>>& options,
+                       Jacobian jacobian = Jacobian::every_iteration);
 
 /// The nonlinear system R(x, y) = 0, G(x, y) = 0 of a distributed field x
 /// bordered by a few global unknowns y (every rank holds all of y), e.g.
@@ -100,8 +134,9 @@ public:
   /// are left at the last iterate.
   NewtonReport solve(const System& system, const NewtonSettings& settings);
 
-  /// Forget the factorised Jacobian (e.g. after the mesh moved).
-  void reset() { _factorised = false; }
+  /// Forget the factorised Jacobian (e.g. after the mesh moved). Under
+  /// Jacobian::krylov a changed Jacobian needs no reset: only a new pattern.
+  void reset() { _factorised = _border_current = false; }
   /// The linear solver, e.g. to give a fieldsplit preconditioner its blocks.
   KSP ksp() const { return _ksp; }
 
@@ -110,7 +145,12 @@ public:
 private:
   KSP _ksp = nullptr;
   Mat _A;
-  bool _factorised = false; ///< does the KSP hold a usable Jacobian?
+  bool _factorised = false; ///< does the KSP hold a usable factorisation?
+  bool _fresh = false;      ///< is it the current Jacobian's?
+  bool _refactorise = false; ///< Jacobian::krylov: a solve was slow
+  /// A bordered system's C_i and Z_i = K^-1 B_i, of the factorised K.
+  std::vector<dolfinx::la::Vector<double>> _C, _Z;
+  bool _border_current = false;
 };
 
 } // namespace nct::solver
