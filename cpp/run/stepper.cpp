@@ -148,9 +148,12 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
       continue;
     }
     problem.advance();
-    before.keep(saved);
-    t_before = t;
-    two = true;
+    if (_predictor == Predictor::extrapolate)
+    {
+      before.keep(saved);
+      t_before = t;
+      two = true;
+    }
     t += step;
     saved.keep(system);
     if (++successes >= 2 && dt < nominal)

@@ -205,27 +205,26 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
   };
   // sol = A^-1 rhs; under Jacobian::krylov a failed or slow solve
   // refactorises (now, or at the next Jacobian).
-  auto linear_solve = [&](Vec rhs, Vec sol)
+  auto solve_once = [&](Vec rhs, Vec sol, PetscInt& its)
   {
-    double t = MPI_Wtime();
+    const double t = MPI_Wtime();
     KSPSolve(_ksp, rhs, sol);
     KSPConvergedReason reason;
     KSPGetConvergedReason(_ksp, &reason);
-    PetscInt its = 0;
     KSPGetIterationNumber(_ksp, &its);
     ++timings.linear_solves;
     timings.krylov_iterations += std::max<PetscInt>(its, 1);
     timings.solve += MPI_Wtime() - t;
+    return reason;
+  };
+  auto linear_solve = [&](Vec rhs, Vec sol)
+  {
+    PetscInt its = 0;
+    KSPConvergedReason reason = solve_once(rhs, sol, its);
     if (krylov && reason < 0 && !_fresh)
     {
       factorise();
-      t = MPI_Wtime();
-      KSPSolve(_ksp, rhs, sol);
-      KSPGetConvergedReason(_ksp, &reason);
-      KSPGetIterationNumber(_ksp, &its);
-      ++timings.linear_solves;
-      timings.krylov_iterations += its;
-      timings.solve += MPI_Wtime() - t;
+      reason = solve_once(rhs, sol, its);
     }
     if (krylov && its > settings.krylov_refactorise)
       _refactorise = true;
