@@ -1,5 +1,7 @@
 #include "run/run.h"
 
+#include <sys/resource.h>
+
 #include <dolfinx/common/log.h>
 
 #include "io/format.h"
@@ -129,6 +131,15 @@ void finish(RunState& s, const std::string& status)
   s.summary["krylov_iterations"] = t.krylov_iterations;
   s.summary["step_cuts"] = s.stepper.cuts;
   s.summary["wall_s"] = MPI_Wtime() - s.wall_start;
+  // Peak resident memory (the factorisations' included): the largest rank's
+  // and all ranks' together [MB].
+  rusage usage;
+  getrusage(RUSAGE_SELF, &usage);
+  double peak[2] = {usage.ru_maxrss / 1024.0, usage.ru_maxrss / 1024.0};
+  MPI_Allreduce(MPI_IN_PLACE, &peak[0], 1, MPI_DOUBLE, MPI_MAX, s.comm);
+  MPI_Allreduce(MPI_IN_PLACE, &peak[1], 1, MPI_DOUBLE, MPI_SUM, s.comm);
+  s.summary["memory_peak_rank_mb"] = peak[0];
+  s.summary["memory_peak_total_mb"] = peak[1];
   s.summary["timings_s"] = {{"mesh", s.model.t_mesh},
                             {"setup", s.model.t_setup},
                             {"assemble", t.assemble()},

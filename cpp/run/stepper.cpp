@@ -129,7 +129,9 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
       newton.reset();
     last_dt = step;
     load(t + problem.load_level() * step);
-    if (_predictor == Predictor::extrapolate && two)
+    if (_predictor == Predictor::extrapolate && problem.predict)
+      problem.predict();
+    else if (_predictor == Predictor::extrapolate && two)
       saved.extrapolate(before, step / (t - t_before), system);
     solver::NewtonReport report;
     if (!attempt(newton, format("%s t = %.4f ms, dt = %.4g ms", phase.c_str(), t + step, step),

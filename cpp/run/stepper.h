@@ -19,8 +19,9 @@ namespace nct
 class Stepper
 {
 public:
-  /// A time step's first Newton iterate: the last converged state, or
-  /// its linear extrapolation through the two before.
+  /// A step's first Newton iterate: the last converged state, or its
+  /// extrapolation: a ramp's secant through the last two converged states,
+  /// a time step's Dynamics::predict (else the secant).
   enum class Predictor
   {
     previous,
@@ -46,6 +47,9 @@ public:
     std::function<void(double dt)> set_time_step; ///< before every step: its length [ms]
     std::function<double()> load_level; ///< where in the step the loads act, in [0, 1]
     std::function<void()> advance;      ///< the converged step becomes the old state
+    /// The step's first iterate from the old state (e.g. its velocity and
+    /// acceleration), for Predictor::extrapolate; null: the secant.
+    std::function<void()> predict = nullptr;
   };
 
   /// March a problem from time t0 for `duration` [ms] with the nominal

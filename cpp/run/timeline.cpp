@@ -89,6 +89,8 @@ solver::NewtonSettings newton_settings(const scene::Scene& s)
                : jacobian == "krylov" ? solver::Jacobian::krylov
                                       : solver::Jacobian::every_iteration;
   n.reuse_contraction = s.real("solver.reuse_contraction");
+  n.reuse_iterations = s.integer("solver.reuse_iterations");
+  n.anderson = s.integer("solver.anderson");
   n.krylov_refactorise = s.integer("solver.krylov_refactorise");
   n.max_growth = s.real("solver.max_growth");
   return n;
@@ -143,7 +145,20 @@ solver::Newton& RunState::newton(const std::string& name, const std::function<Ma
 
 solver::Newton& RunState::solid_newton()
 {
-  return newton("solid", [this] { return model.problem->create_matrix(); });
+  // LDL^T (solver.factorisation): the upper triangle and MUMPS' LDL^T of
+  // the symmetric matrix it stands for (the follower pressures' skew part
+  // is left to the Newton iteration).
+  const bool ldlt = scene.string("solver.factorisation") == "ldlt";
+  const bool fresh = _solvers.find("solid") == _solvers.end();
+  auto& n = newton("solid", [&] { return model.problem->create_matrix(ldlt ? "sbaij" : "baij"); });
+  if (fresh && ldlt)
+  {
+    PC pc;
+    KSPGetPC(n.ksp(), &pc);
+    PCSetType(pc, PCCHOLESKY);
+    PCFactorSetMatSolverType(pc, MATSOLVERMUMPS);
+  }
+  return n;
 }
 
 solver::Timings RunState::timings() const

@@ -459,16 +459,33 @@ std::vector<Key> declare()
                "full Newton whose linear solves are GMRES preconditioned by the last "
                "factorisation, refactorised when GMRES needs more than "
                "solver.krylov_refactorise iterations"});
-  k.push_back({"solver.reuse_contraction", K::real, "0.25", "", 0.01, 0.99, {},
+  k.push_back({"solver.reuse_contraction", K::real, "0.7", "", 0.01, 0.99, {},
                "solver.jacobian = reuse: refactorise once a Newton iteration (after a solve's "
-               "first) cuts the residual norm by less than this factor"});
+               "first) cuts the residual norm by less than this factor (0.7 with the Anderson "
+               "acceleration, which keeps a factorisation longer; 0.25 without)"});
+  k.push_back({"solver.factorisation", K::choice, "\"lu\"", "", -inf, inf, {"lu", "ldlt"},
+               "the solid's factorised Jacobian: lu = MUMPS LU of the Jacobian (Newton "
+               "converges quadratically with a fresh one, also near limit points); ldlt = "
+               "MUMPS LDL^T of its upper triangle taken as symmetric, a third cheaper to "
+               "factorise and half to assemble, the follower pressures' skew part left to "
+               "the iteration (linear convergence; it can stall near a limit load or with "
+               "nearly incompressible parts); not with solver.jacobian = krylov"});
+  k.push_back({"solver.reuse_iterations", K::integer, "1000", "", 1, 1000, {},
+               "solver.jacobian = reuse: refactorise after this many iterations on one "
+               "factorisation within a solve"});
+  k.push_back({"solver.anderson", K::integer, "5", "", 0, 50, {},
+               "solver.jacobian = reuse: Anderson acceleration of the iteration on the kept "
+               "factorisation over this many past steps (nonlinear GMRES; Walker & Ni 2011); "
+               "0 = plain modified Newton"});
   k.push_back({"solver.krylov_refactorise", K::integer, "10", "", 1, 1000, {},
                "solver.jacobian = krylov: refactorise the preconditioner once a linear solve "
                "needs more GMRES iterations than this"});
-  k.push_back({"solver.predictor", K::choice, "\"previous\"", "", -inf, inf,
+  k.push_back({"solver.predictor", K::choice, "\"extrapolate\"", "", -inf, inf,
                {"previous", "extrapolate"},
-               "a time step's first Newton iterate: previous = the last converged state; "
-               "extrapolate = the line through the last two"});
+               "a step's first Newton iterate: previous = the last converged state; "
+               "extrapolate = a load ramp's secant through the last two, the solid's "
+               "time step's constant-acceleration state u_n + dt v_n + dt^2/2 a_n (the "
+               "air's and the coupled system's: the secant)"});
   k.push_back({"solver.increment_tol", K::real, "0", "mm", 0, 1, {},
                "Newton also converges when its error estimate from the last two steps, "
                "|dx| q/(1-q) with q the steps' ratio (max norm, the unknowns' units: mm, mm/ms, "
@@ -519,6 +536,10 @@ void check_consistency(const Scene& s)
          + " ms holds fewer than 3 frames at puff.frame_rate = "
          + std::to_string(s.real("puff.frame_rate")) + "/s; needs at least "
          + std::to_string(2e3 / s.real("puff.frame_rate")) + " ms");
+
+  if (s.string("solver.factorisation") == "ldlt" && s.string("solver.jacobian") == "krylov")
+    fail("key 'solver.factorisation': \"ldlt\" factorises the symmetric part only, but "
+         "solver.jacobian = \"krylov\" needs the Jacobian itself: \"lu\"");
 
   if (s.string("support.model") == "springs")
   {

@@ -374,6 +374,16 @@ void Problem::advance()
   }
 }
 
+void Problem::predict()
+{
+  // The Newmark update at a_{n+1} = a_n: the constant-acceleration predictor.
+  const double dt = _time["dt"]->value[0];
+  auto un = u->x()->mutable_array();
+  auto uo = u_old->x()->array(), vo = v_old->x()->array(), ao = a_old->x()->array();
+  for (std::size_t i = 0; i < un.size(); ++i)
+    un[i] = uo[i] + dt * vo[i] + 0.5 * dt * dt * ao[i];
+}
+
 double Problem::load_level() const { return _dynamic ? 1 - _time.at("alpha_f")->value[0] : 1.0; }
 
 std::array<double, 3> Problem::velocity_coefficients() const
@@ -457,7 +467,40 @@ void Problem::update_reference()
               fields.at(name)->x()->mutable_array().begin());
 }
 
-Mat Problem::create_matrix() const { return fem::petsc::create_matrix(*_J, "aij"); }
+Mat Problem::create_matrix(const std::string& type) const
+{
+  la::SparsityPattern pattern = fem::create_sparsity_pattern(*_J);
+  pattern.assemble();
+  Mat A = la::petsc::create_matrix(u->function_space()->mesh()->comm(), pattern, type);
+  if (type == "sbaij")
+  {
+    // dolfinx preallocates whole rows, which SBAIJ reads as none: count
+    // the blocks on and right of the diagonal instead.
+    const auto& graph = pattern.graph();
+    const common::IndexMap columns = pattern.column_index_map();
+    const std::int64_t first = columns.local_range()[0];
+    const std::int32_t owned = columns.size_local();
+    const std::vector<std::int64_t> ghosts = columns.ghosts();
+    std::vector<PetscInt> diagonal(graph.num_nodes(), 0), off(graph.num_nodes(), 0),
+        d_upper(graph.num_nodes(), 0), o_upper(graph.num_nodes(), 0);
+    for (std::int32_t i = 0; i < graph.num_nodes(); ++i)
+      for (std::int32_t j : graph.links(i))
+      {
+        const std::int64_t column = j < owned ? first + j : ghosts[j - owned];
+        auto [full, upper] = j < owned ? std::tie(diagonal[i], d_upper[i])
+                                       : std::tie(off[i], o_upper[i]);
+        ++full;
+        if (column >= first + i)
+          ++upper;
+      }
+    MatXAIJSetPreallocation(A, pattern.block_size(0), diagonal.data(), off.data(),
+                            d_upper.data(), o_upper.data());
+    MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE);
+    MatSetOption(A, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE);
+    MatSetOption(A, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE);
+  }
+  return A;
+}
 
 std::vector<double> Problem::cavity_volumes() const { return whole_model(_volumes); }
 

@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <dolfinx/fem/Constant.h>
@@ -89,7 +90,10 @@ public:
   /// A = dR/du with identity rows on Dirichlet dofs.
   void jacobian(Mat A);
   /// Zero Jacobian with the sparsity of dR/du.
-  Mat create_matrix() const;
+  /// Block size 3 (one block per node) inserts a Jacobian 2x faster than
+  /// "aij"; "sbaij" keeps only the upper triangle (the lower is ignored as
+  /// it is assembled), for an LDL^T factorisation of the symmetric part.
+  Mat create_matrix(const std::string& type = "baij") const;
 
   /// Whole-model cavity volumes (the meshed part times the symmetry factor).
   std::vector<double> cavity_volumes() const;
@@ -109,6 +113,9 @@ public:
   /// After a converged step: a and v from the Newmark updates, then the
   /// new state becomes the old one.
   void advance();
+  /// Dynamics: u = u_n + dt v_n + dt^2/2 a_n, the state whose Newmark
+  /// acceleration is a_n (the constant-acceleration predictor).
+  void predict();
   /// Time of the loads within the step, as a fraction from t_n to t_{n+1}
   /// (1 - alpha_f; 1 when quasi-static): loads are set at that time.
   double load_level() const;

@@ -7,6 +7,8 @@
 
 #include <dolfinx/la/petsc.h>
 
+#include "solver/dense.h"
+
 namespace nct::solver
 {
 namespace
@@ -34,39 +36,6 @@ double max_norm(const dolfinx::la::Vector<double>& x, const std::vector<double>&
     m = std::max(m, std::abs(v));
   MPI_Allreduce(MPI_IN_PLACE, &m, 1, MPI_DOUBLE, MPI_MAX, x.map()->comm());
   return m;
-}
-
-/// x = S^-1 r for a small dense S (row-major), by Gaussian elimination
-/// with partial pivoting; NaN if S is singular.
-std::vector<double> solve_dense(std::vector<double> S, std::vector<double> r)
-{
-  const std::size_t n = r.size();
-  for (std::size_t k = 0; k < n; ++k)
-  {
-    std::size_t p = k;
-    for (std::size_t i = k + 1; i < n; ++i)
-      if (std::abs(S[i * n + k]) > std::abs(S[p * n + k]))
-        p = i;
-    if (S[p * n + k] == 0)
-      return std::vector<double>(n, std::nan(""));
-    for (std::size_t j = 0; j < n; ++j)
-      std::swap(S[k * n + j], S[p * n + j]);
-    std::swap(r[k], r[p]);
-    for (std::size_t i = k + 1; i < n; ++i)
-    {
-      const double f = S[i * n + k] / S[k * n + k];
-      for (std::size_t j = k; j < n; ++j)
-        S[i * n + j] -= f * S[k * n + j];
-      r[i] -= f * r[k];
-    }
-  }
-  for (std::size_t k = n; k-- > 0;)
-  {
-    for (std::size_t j = k + 1; j < n; ++j)
-      r[k] -= S[k * n + j] * r[j];
-    r[k] /= S[k * n + k];
-  }
-  return r;
 }
 
 /// The reason of a diverging solve.
@@ -141,39 +110,37 @@ Newton::~Newton()
     KSPDestroy(&_ksp);
 }
 
-NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
-{
-  using Vector = dolfinx::la::Vector<double>;
-  Vector& x = *system.x;
-  std::vector<double>& y = *system.y;
-  const std::size_t ny = y.size();
-  NewtonReport report;
-  Vector b(x.map(), x.bs()), dx(x.map(), x.bs()), x_old(x.map(), x.bs()),
-      b_start(x.map(), x.bs());
-  // The border's C and Z are kept with the factorisation they were made
-  // with: a kept (modified Newton) Jacobian keeps its border too.
-  if (_Z.size() != ny || (ny > 0 && _Z[0].map() != x.map()))
-  {
-    _C.clear(), _Z.clear();
-    for (std::size_t i = 0; i < ny; ++i)
-      _C.push_back(b), _Z.push_back(b);
-    _border_current = false;
-  }
-  std::vector<Vector> B(ny, b);
-  std::vector<Vector>&C = _C, &Z = _Z;
-  std::vector<double> g(ny), g_start(ny), y_old(ny), dy(ny);
-  Vec b_petsc = dolfinx::la::petsc::create_vector_wrap(b);
-  Vec dx_petsc = dolfinx::la::petsc::create_vector_wrap(dx);
-  std::vector<Vec> B_petsc, Z_petsc;
-  for (std::size_t i = 0; i < ny; ++i)
-  {
-    B_petsc.push_back(dolfinx::la::petsc::create_vector_wrap(B[i]));
-    Z_petsc.push_back(dolfinx::la::petsc::create_vector_wrap(Z[i]));
-  }
+using Vector = dolfinx::la::Vector<double>;
 
-  auto assemble_residual = [&]
+struct Newton::Work
+{
+  Work(const System& s, std::vector<Vector>& Z)
+      : system(s), x(*s.x), y(*s.y), b(x.map(), x.bs()), dx(x.map(), x.bs()),
+        x_old(x.map(), x.bs()), b_start(x.map(), x.bs()), B(y.size(), b), g(y.size()),
+        g_start(y.size()), y_old(y.size()), dy(y.size()),
+        b_petsc(dolfinx::la::petsc::create_vector_wrap(b)),
+        dx_petsc(dolfinx::la::petsc::create_vector_wrap(dx))
   {
-    double t = MPI_Wtime();
+    for (std::size_t i = 0; i < y.size(); ++i)
+    {
+      B_petsc.push_back(dolfinx::la::petsc::create_vector_wrap(B[i]));
+      Z_petsc.push_back(dolfinx::la::petsc::create_vector_wrap(Z[i]));
+    }
+  }
+  ~Work()
+  {
+    VecDestroy(&b_petsc);
+    VecDestroy(&dx_petsc);
+    for (std::size_t i = 0; i < B_petsc.size(); ++i)
+      VecDestroy(&B_petsc[i]), VecDestroy(&Z_petsc[i]);
+  }
+  Work(const Work&) = delete;
+  Work& operator=(const Work&) = delete;
+
+  /// b, g at the current state; the residual norm.
+  double residual(Timings& timings)
+  {
+    const double t = MPI_Wtime();
     system.residual(b, g);
     timings.residual += MPI_Wtime() - t;
     ++timings.residuals;
@@ -181,31 +148,62 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
     for (double gi : g)
       r2 += gi * gi;
     return std::sqrt(r2);
-  };
-  // dx . R + dy . G: the line search's slope.
-  auto slope = [&](const Vector& r, const std::vector<double>& c)
+  }
+  /// dx . R + dy . G at (r, c): the line search's slope.
+  double slope(const Vector& r, const std::vector<double>& c) const
   {
     double s = dot(dx, r);
-    for (std::size_t i = 0; i < ny; ++i)
+    for (std::size_t i = 0; i < dy.size(); ++i)
       s += dy[i] * c[i];
     return s;
-  };
-  const bool krylov = settings.jacobian == Jacobian::krylov;
-  // A factorisation of the current Jacobian, A, as the KSP's preconditioner.
-  auto factorise = [&]
+  }
+  /// (x, y) = (x, y)_old - alpha (dx, dy); the residual norm there.
+  double take(double alpha, Timings& timings)
   {
-    const double t = MPI_Wtime();
-    KSPSetReusePreconditioner(_ksp, PETSC_FALSE);
-    KSPSetOperators(_ksp, _A, _A);
-    KSPSetUp(_ksp);
-    timings.factorise += MPI_Wtime() - t;
-    ++timings.factorisations;
-    _factorised = _fresh = true;
-    _refactorise = false;
-  };
-  // sol = A^-1 rhs; under Jacobian::krylov a failed or slow solve
-  // refactorises (now, or at the next Jacobian).
-  auto solve_once = [&](Vec rhs, Vec sol, PetscInt& its)
+    for (std::size_t i = 0; i < x.array().size(); ++i)
+      x.mutable_array()[i] = x_old.array()[i] - alpha * dx.array()[i];
+    for (std::size_t i = 0; i < y.size(); ++i)
+      y[i] = y_old[i] - alpha * dy[i];
+    return residual(timings);
+  }
+  /// Why the current state is unusable (an inverted element first: it is
+  /// often why the residual is NaN), given its residual norm; empty if usable.
+  std::string unusable(double r) const
+  {
+    std::string why = system.inadmissible ? system.inadmissible() : std::string();
+    if (why.empty() && !std::isfinite(r))
+      why = "the residual is NaN or Inf";
+    return why;
+  }
+
+  const System& system;
+  Vector& x;
+  std::vector<double>& y;
+  Vector b, dx, x_old, b_start;
+  std::vector<Vector> B;
+  std::vector<double> g, g_start, y_old, dy;
+  Vec b_petsc, dx_petsc;
+  std::vector<Vec> B_petsc, Z_petsc;
+};
+
+void Newton::factorise()
+{
+  const double t = MPI_Wtime();
+  KSPSetReusePreconditioner(_ksp, PETSC_FALSE);
+  KSPSetOperators(_ksp, _A, _A);
+  KSPSetUp(_ksp);
+  timings.factorise += MPI_Wtime() - t;
+  ++timings.factorisations;
+  _factorised = _fresh = true;
+  _refactorise = false;
+  _uses = 0;
+  if (_anderson)
+    _anderson->reset();
+}
+
+KSPConvergedReason Newton::linear_solve(Vec rhs, Vec sol, const NewtonSettings& settings)
+{
+  auto once = [&](PetscInt& its)
   {
     const double t = MPI_Wtime();
     KSPSolve(_ksp, rhs, sol);
@@ -217,22 +215,155 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
     timings.solve += MPI_Wtime() - t;
     return reason;
   };
-  auto linear_solve = [&](Vec rhs, Vec sol)
+  const bool krylov = settings.jacobian == Jacobian::krylov;
+  PetscInt its = 0;
+  KSPConvergedReason reason = once(its);
+  if (krylov && reason < 0 && !_fresh)
   {
-    PetscInt its = 0;
-    KSPConvergedReason reason = solve_once(rhs, sol, its);
-    if (krylov && reason < 0 && !_fresh)
-    {
+    factorise();
+    reason = once(its);
+  }
+  if (krylov && its > settings.krylov_refactorise)
+    _refactorise = true;
+  return reason;
+}
+
+std::string Newton::newton_step(Work& w, bool assemble, const NewtonSettings& settings)
+{
+  const std::size_t ny = w.y.size();
+  if (assemble)
+  {
+    const double t = MPI_Wtime();
+    w.system.jacobian(_A);
+    ++timings.jacobians;
+    timings.jacobian += MPI_Wtime() - t;
+    _fresh = false;
+    if (settings.jacobian != Jacobian::krylov || !_factorised || _refactorise)
       factorise();
-      reason = solve_once(rhs, sol, its);
+    else
+    {
+      // The new operator under the kept factorisation.
+      KSPSetReusePreconditioner(_ksp, PETSC_TRUE);
+      KSPSetOperators(_ksp, _A, _A);
     }
-    if (krylov && its > settings.krylov_refactorise)
-      _refactorise = true;
-    return reason;
-  };
+  }
+  KSPConvergedReason reason = linear_solve(w.b_petsc, w.dx_petsc, settings);
+  if (ny > 0 && reason > 0)
+  {
+    // The border: Z = K^-1 B, then the Schur complement S = C Z.
+    const double t = MPI_Wtime();
+    if (assemble || !_border_current)
+    {
+      w.system.border(w.B, _C);
+      timings.border_assemble += MPI_Wtime() - t;
+      for (std::size_t i = 0; i < ny && reason > 0; ++i)
+        reason = linear_solve(w.B_petsc[i], w.Z_petsc[i], settings);
+      _border_current = reason > 0;
+    }
+    std::vector<double> S(ny * ny), rhs(ny);
+    for (std::size_t i = 0; i < ny; ++i)
+    {
+      rhs[i] = dot(_C[i], w.dx) - w.g[i];
+      for (std::size_t j = 0; j < ny; ++j)
+        S[i * ny + j] = dot(_C[i], _Z[j]);
+    }
+    w.dy = solve_dense(S, rhs);
+    for (std::size_t j = 0; j < ny; ++j)
+      for (std::size_t k = 0; k < w.dx.array().size(); ++k)
+        w.dx.mutable_array()[k] -= w.dy[j] * _Z[j].array()[k];
+    timings.border += MPI_Wtime() - t;
+  }
+  if (reason < 0)
+    return std::string("the linear solver failed (") + KSPConvergedReasons[reason] + ")";
+  if (!std::all_of(w.dy.begin(), w.dy.end(), [](double v) { return std::isfinite(v); }))
+    return "the bordered system is singular (a constraint does not depend on the field)";
+  if (!std::isfinite(dot(w.dx, w.dx)))
+    return "the linear solver returned NaN or Inf (a singular or ill-conditioned Jacobian)";
+  ++_uses;
+  if (_anderson)
+  {
+    // The step and the state as one vector of owned entries and y.
+    const std::size_t owned = w.x.map()->size_local() * w.x.bs();
+    std::vector<double> state(owned + ny), step(owned + ny);
+    std::copy_n(w.x.array().begin(), owned, state.begin());
+    std::copy(w.y.begin(), w.y.end(), state.begin() + owned);
+    std::copy_n(w.dx.array().begin(), owned, step.begin());
+    std::copy(w.dy.begin(), w.dy.end(), step.begin() + owned);
+    _anderson->accelerate(state, step);
+    std::copy_n(step.begin(), owned, w.dx.mutable_array().begin());
+    std::copy(step.begin() + owned, step.end(), w.dy.begin());
+  }
+  w.dx.scatter_fwd();
+  return "";
+}
+
+std::string Newton::take_step(Work& w, const NewtonSettings& settings, double& alpha, double& r)
+{
+  std::copy(w.b.array().begin(), w.b.array().end(), w.b_start.mutable_array().begin());
+  w.g_start = w.g;
+  std::copy(w.x.array().begin(), w.x.array().end(), w.x_old.mutable_array().begin());
+  w.y_old = w.y;
+  alpha = 1.0;
+  r = w.take(alpha, timings);
+  const int residuals_before = timings.residuals;
+  std::string why = w.unusable(r);
+  while (!why.empty() && alpha > 1.0 / 64)
+    why = w.unusable(r = w.take(alpha /= 2, timings));
+  if (!why.empty())
+    return why + " even with the Newton step cut to 1/64";
+  if (settings.line_search)
+  {
+    // Energy line search: find alpha where the residual is orthogonal to
+    // the step, s(alpha) = dx . R + dy . G = 0 (the energy's directional
+    // derivative), by secant steps from alpha = 1, kept within
+    // [alpha/10, alpha]; an unusable state ends it at the last alpha.
+    const double s0 = w.slope(w.b_start, w.g_start);
+    double s = w.slope(w.b, w.g);
+    bool at_alpha = true; // do x, y and b, g hold the state at alpha?
+    for (int k = 0; k < 5 && std::abs(s) > 0.5 * std::abs(s0) && s * s0 < 0; ++k)
+    {
+      const double next = std::clamp(alpha * s0 / (s0 - s), 0.1 * alpha, alpha);
+      const double r_try = w.take(next, timings);
+      if (!w.unusable(r_try).empty())
+      {
+        at_alpha = false;
+        break;
+      }
+      alpha = next, r = r_try, s = w.slope(w.b, w.g);
+    }
+    if (!at_alpha)
+      r = w.take(alpha, timings);
+  }
+  timings.line_search_residuals += timings.residuals - residuals_before;
+  return "";
+}
+
+NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
+{
+  const std::size_t ny = system.y->size();
+  NewtonReport report;
+  // The border's C and Z are kept with the factorisation they were made
+  // with: a kept (modified Newton) Jacobian keeps its border too.
+  if (_Z.size() != ny || (ny > 0 && _Z[0].map() != system.x->map()))
+  {
+    _C.clear(), _Z.clear();
+    for (std::size_t i = 0; i < ny; ++i)
+      _C.emplace_back(system.x->map(), system.x->bs()),
+          _Z.emplace_back(system.x->map(), system.x->bs());
+    _border_current = false;
+  }
+  const bool accelerate = settings.jacobian == Jacobian::reuse && settings.anderson > 0;
+  if (!accelerate)
+    _anderson.reset();
+  else if (!_anderson)
+    _anderson.emplace(system.x->map()->comm(), settings.anderson, ny);
+  if (_anderson)
+    _anderson->reset(); // a new problem: no secants across solves
+  _uses = 0;
+  Work w(system, _Z);
 
   std::vector<double> step_sizes; // max norm of each taken step
-  double r = assemble_residual();
+  double r = w.residual(timings);
   report.residuals.push_back(r);
   const double r0 = r;
   if (!std::isfinite(r))
@@ -250,140 +381,27 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
                       + " iterations";
       break;
     }
-
-    const std::size_t n = report.residuals.size();
     // The first step of a solve is no test of the kept factorisation: from
     // new loads it often raises the residual norm even with the exact
     // Jacobian (a dynamic step's inertia, seen at every puff step).
-    const bool slow
-        = n >= 3 && report.residuals[n - 1] > settings.reuse_contraction * report.residuals[n - 2];
+    const std::size_t n = report.residuals.size();
+    const bool slow = (n >= 3
+                       && report.residuals[n - 1]
+                              > settings.reuse_contraction * report.residuals[n - 2])
+                      || _uses >= settings.reuse_iterations;
     const bool assemble = settings.jacobian != Jacobian::reuse || !_factorised || slow;
-    if (assemble)
-    {
-      const double t = MPI_Wtime();
-      system.jacobian(_A);
-      ++timings.jacobians;
-      timings.jacobian += MPI_Wtime() - t;
-      _fresh = false;
-      if (!krylov || !_factorised || _refactorise)
-        factorise();
-      else
-      {
-        // The new operator under the kept factorisation.
-        KSPSetReusePreconditioner(_ksp, PETSC_TRUE);
-        KSPSetOperators(_ksp, _A, _A);
-      }
-    }
-    KSPConvergedReason ksp_reason = linear_solve(b_petsc, dx_petsc);
-    if (ny > 0 && ksp_reason > 0)
-    {
-      // The border: Z = K^-1 B, then the Schur complement S = C Z.
-      const double t_border = MPI_Wtime();
-      if (assemble || !_border_current)
-      {
-        system.border(B, C);
-        timings.border_assemble += MPI_Wtime() - t_border;
-        for (std::size_t i = 0; i < ny && ksp_reason > 0; ++i)
-          ksp_reason = linear_solve(B_petsc[i], Z_petsc[i]);
-        _border_current = ksp_reason > 0;
-      }
-      std::vector<double> S(ny * ny), rhs(ny);
-      for (std::size_t i = 0; i < ny; ++i)
-      {
-        rhs[i] = dot(C[i], dx) - g[i];
-        for (std::size_t j = 0; j < ny; ++j)
-          S[i * ny + j] = dot(C[i], Z[j]);
-      }
-      dy = solve_dense(S, rhs);
-      for (std::size_t j = 0; j < ny; ++j)
-        for (std::size_t k = 0; k < dx.array().size(); ++k)
-          dx.mutable_array()[k] -= dy[j] * Z[j].array()[k];
-      timings.border += MPI_Wtime() - t_border;
-    }
-    if (ksp_reason < 0)
-    {
-      report.reason = std::string("the linear solver failed (")
-                      + KSPConvergedReasons[ksp_reason] + ")";
+    report.reason = newton_step(w, assemble, settings);
+    if (!report.reason.empty())
       break;
-    }
-    if (!std::all_of(dy.begin(), dy.end(), [](double v) { return std::isfinite(v); }))
-    {
-      report.reason = "the bordered system is singular (a constraint does not depend "
-                      "on the field)";
-      break;
-    }
-    if (!std::isfinite(dot(dx, dx)))
-    {
-      report.reason = "the linear solver returned NaN or Inf (a singular or "
-                      "ill-conditioned Jacobian)";
-      break;
-    }
-    dx.scatter_fwd();
-    std::copy(b.array().begin(), b.array().end(), b_start.mutable_array().begin());
-    g_start = g;
-
-    // Step length. (x, y)(alpha) = (x, y)_old - alpha (dx, dy). "energy":
-    // find alpha where the residual is orthogonal to the step, s(alpha)
-    // = dx . R + dy . G = 0 (the energy's directional derivative), by
-    // secant steps from alpha = 1; a non-finite residual halves alpha.
-    // Full steps otherwise.
-    std::copy(x.array().begin(), x.array().end(), x_old.mutable_array().begin());
-    y_old = y;
-    auto take = [&](double alpha)
-    {
-      for (std::size_t i = 0; i < x.array().size(); ++i)
-        x.mutable_array()[i] = x_old.array()[i] - alpha * dx.array()[i];
-      for (std::size_t i = 0; i < ny; ++i)
-        y[i] = y_old[i] - alpha * dy[i];
-      return assemble_residual();
-    };
-    // Why the state at the last take() is unusable; empty if it is usable.
-    // An inverted element first: it is often why the residual is NaN.
-    auto unusable = [&](double r_try) -> std::string
-    {
-      std::string why = system.inadmissible ? system.inadmissible() : std::string();
-      if (why.empty() && !std::isfinite(r_try))
-        why = "the residual is NaN or Inf";
-      return why;
-    };
-    double alpha = 1.0, r_new = take(alpha);
-    const int residuals_before = timings.residuals;
-    std::string why = unusable(r_new);
-    while (!why.empty() && alpha > 1.0 / 64)
-      why = unusable(r_new = take(alpha /= 2));
-    if (!why.empty())
-    {
-      report.reason = why + " even with the Newton step cut to 1/64";
-      ++report.iterations;
-      break;
-    }
-    if (settings.line_search)
-    {
-      const double s0 = slope(b_start, g_start);
-      double s = slope(b, g);
-      bool at_alpha = true; // do x, y and b, g hold the state at alpha?
-      for (int k = 0; k < 5 && std::abs(s) > 0.5 * std::abs(s0) && s * s0 < 0; ++k)
-      {
-        // Secant between (0, s0) and (alpha, s), kept within [alpha/10, alpha].
-        const double next = std::clamp(alpha * s0 / (s0 - s), 0.1 * alpha, alpha);
-        const double r_try = take(next);
-        if (!unusable(r_try).empty())
-        {
-          at_alpha = false;
-          break;
-        }
-        alpha = next, r_new = r_try, s = slope(b, g);
-      }
-      if (!at_alpha)
-        r_new = take(alpha);
-    }
-    timings.line_search_residuals += timings.residuals - residuals_before;
+    double alpha = 1;
+    report.reason = take_step(w, settings, alpha, r);
     ++report.iterations;
-    r = r_new;
+    if (!report.reason.empty())
+      break;
     report.residuals.push_back(r);
     // The increment test: with q the contraction of the last two steps,
     // the distance to the solution is about |dx_k| q / (1 - q).
-    step_sizes.push_back(alpha * max_norm(dx, dy));
+    step_sizes.push_back(alpha * max_norm(w.dx, w.dy));
     if (settings.increment_tol > 0 && step_sizes.size() >= 2 && std::isfinite(r))
     {
       const double last = step_sizes.back(), q = last / step_sizes[step_sizes.size() - 2];
@@ -399,14 +417,7 @@ NewtonReport Newton::solve(const System& system, const NewtonSettings& settings)
       report.reason = format_growth(smallest, r, settings.max_growth);
   }
   if (!report.converged && system.locate)
-    report.reason += "; the residual is largest " + system.locate(b);
-  VecDestroy(&b_petsc);
-  VecDestroy(&dx_petsc);
-  for (std::size_t i = 0; i < ny; ++i)
-  {
-    VecDestroy(&B_petsc[i]);
-    VecDestroy(&Z_petsc[i]);
-  }
+    report.reason += "; the residual is largest " + system.locate(w.b);
   if (!report.converged)
     reset(); // the caller restarts elsewhere: start afresh
   return report;

@@ -2,12 +2,15 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <dolfinx/la/Vector.h>
 #include <petscksp.h>
+
+#include "solver/anderson.h"
 
 namespace nct::solver
 {
@@ -20,7 +23,9 @@ enum class Jacobian
   every_iteration,
   /// Keep the factorised Jacobian (across iterations and solves) while
   /// each iteration after a solve's first cuts the residual norm by at
-  /// least `reuse_contraction`; refactorise otherwise (modified Newton).
+  /// least `reuse_contraction`; refactorise otherwise (modified Newton),
+  /// and after `reuse_iterations` iterations on it within a solve. With
+  /// `anderson` > 0 the iteration is Anderson-accelerated.
   reuse,
   /// Assemble the Jacobian at every iteration and solve with the KSP
   /// (GMRES) preconditioned by the last factorisation, kept across
@@ -42,6 +47,10 @@ struct NewtonSettings
   bool line_search = true;  ///< energy line search (else full steps)
   Jacobian jacobian = Jacobian::every_iteration;
   double reuse_contraction = 0.25; ///< Jacobian::reuse only
+  int reuse_iterations = 1000;     ///< Jacobian::reuse only
+  /// Jacobian::reuse: depth of the Anderson acceleration of the iteration
+  /// on a kept factorisation (solver/anderson.h); 0: plain modified Newton.
+  int anderson = 0;
   int krylov_refactorise = 10;     ///< Jacobian::krylov only
   /// The solve counts as diverging once the residual norm exceeds this
   /// multiple of its smallest value so far.
@@ -143,14 +152,32 @@ public:
   Timings timings;
 
 private:
+  /// One solve's vectors (the residual, the step, the state before it).
+  struct Work;
+
+  /// A factorisation of the current A.
+  void factorise();
+  /// sol = A^-1 rhs, counted and timed; under Jacobian::krylov a failed
+  /// solve on an old factorisation refactorises and retries.
+  KSPConvergedReason linear_solve(Vec rhs, Vec sol, const NewtonSettings& settings);
+  /// The Newton step (dx, dy) of the bordered system at the current
+  /// state, with a new Jacobian if `assemble`; why it failed, or empty.
+  std::string newton_step(Work& w, bool assemble, const NewtonSettings& settings);
+  /// Take the step (x, y) -= alpha (dx, dy): alpha halved while the state
+  /// is inadmissible, then the energy line search. Returns the new
+  /// residual norm and sets alpha; why no usable step exists, or empty.
+  std::string take_step(Work& w, const NewtonSettings& settings, double& alpha, double& r);
+
   KSP _ksp = nullptr;
   Mat _A;
   bool _factorised = false; ///< does the KSP hold a usable factorisation?
   bool _fresh = false;      ///< is it the current Jacobian's?
   bool _refactorise = false; ///< Jacobian::krylov: a solve was slow
+  int _uses = 0;             ///< iterations on the factorisation in this solve
   /// A bordered system's C_i and Z_i = K^-1 B_i, of the factorised K.
   std::vector<dolfinx::la::Vector<double>> _C, _Z;
   bool _border_current = false;
+  std::optional<Anderson> _anderson;
 };
 
 } // namespace nct::solver
