@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "biomarkers/biomarkers.h"
+#include "biomarkers/record.h"
 
 namespace
 {
@@ -268,4 +269,51 @@ TEST(Biomarkers, StiffPuff)
   EXPECT_FALSE(r.da_ratio_2mm);
   EXPECT_EQ(r.whole_eye_movement_max, 0.0);
   EXPECT_FALSE(r.whole_eye_movement_time);
+}
+
+// The frames between two steps: the cubic Hermite interpolant of the nodes'
+// positions and velocities is exact for a cubic motion, where the linear
+// blend misses the midpoint by h^2 |u''| / 8 (a deepest frame set between
+// two steps comes out too shallow).
+TEST(Biomarkers, FramesBetweenStepsFollowACubicMotion)
+{
+  const double h = 0.5, t0 = 1.0;
+  // One node per motion: x(t), y(t) cubics, different per node.
+  auto motion = [](int node, double t)
+  {
+    const double c = 0.1 * (node + 1);
+    return std::array<double, 4>{1 + c * t - 0.3 * t * t + 0.02 * t * t * t,  // x
+                                 c - 2 * c * t * t + 0.05 * t * t * t,          // y
+                                 c - 0.3 * 2 * t + 0.06 * t * t,                // vx
+                                 -4 * c * t + 0.15 * t * t};                    // vy
+  };
+  auto state = [&](double t)
+  {
+    nct::biomarkers::SectionState s;
+    for (int n = 0; n < 3; ++n)
+    {
+      const auto m = motion(n, t), m0 = motion(n, 0);
+      s.X.push_back(m0[0]), s.x.push_back(m[0]), s.y.push_back(m[1]);
+      s.uy.push_back(m[1] - m0[1]), s.vx.push_back(m[2]), s.vy.push_back(m[3]);
+    }
+    return s;
+  };
+  const auto a = state(t0), b = state(t0 + h);
+  for (double s : {0.0, 0.25, 0.5, 0.8, 1.0})
+  {
+    const auto f = nct::biomarkers::hermite(a, b, s, h), exact = state(t0 + s * h);
+    for (int n = 0; n < 3; ++n)
+    {
+      EXPECT_NEAR(f.x[n], exact.x[n], 1e-14);
+      EXPECT_NEAR(f.y[n], exact.y[n], 1e-14);
+      EXPECT_NEAR(f.uy[n], exact.uy[n], 1e-14);
+      EXPECT_NEAR(f.vx[n], exact.vx[n], 1e-13);
+      EXPECT_NEAR(f.vy[n], exact.vy[n], 1e-13);
+      EXPECT_EQ(f.X[n], a.X[n]);
+    }
+  }
+  // The linear blend at the midpoint, for scale: off by h^2 |y''| / 8.
+  const auto mid = state(t0 + h / 2);
+  const double linear = 0.5 * (a.y[2] + b.y[2]);
+  EXPECT_GT(std::abs(linear - mid.y[2]), 1e-2);
 }

@@ -34,11 +34,6 @@ std::vector<double> blend(const std::vector<double>& a, const std::vector<double
   return c;
 }
 
-SectionState blend(const SectionState& a, const SectionState& b, double s)
-{
-  return {a.X, blend(a.x, b.x, s), blend(a.y, b.y, s), blend(a.uy, b.uy, s)};
-}
-
 void row(std::ostringstream& out, const std::vector<double>& v)
 {
   for (std::size_t i = 0; i < v.size(); ++i)
@@ -54,6 +49,28 @@ void header(std::ostringstream& out, const std::vector<std::string>& names)
 }
 
 } // namespace
+
+SectionState hermite(const SectionState& a, const SectionState& b, double s, double h)
+{
+  // The cubic Hermite basis on [0, 1]
+  const double h00 = (1 + 2 * s) * (1 - s) * (1 - s), h10 = s * (1 - s) * (1 - s),
+               h01 = s * s * (3 - 2 * s), h11 = -s * s * (1 - s);
+  // d/ds of the above, over h: the velocity
+  const double d00 = -6 * s * (1 - s) / h, d10 = (1 - s) * (1 - 3 * s) / h,
+               d01 = 6 * s * (1 - s) / h, d11 = s * (3 * s - 2) / h;
+  SectionState c{a.X, a.x, a.y, a.uy, a.vx, a.vy};
+  for (std::size_t i = 0; i < a.X.size(); ++i)
+  {
+    for (auto [p, v, out] : {std::tuple{&SectionState::x, &SectionState::vx, &c.x},
+                             {&SectionState::y, &SectionState::vy, &c.y},
+                             {&SectionState::uy, &SectionState::vy, &c.uy}})
+      (*out)[i] = h00 * (a.*p)[i] + h10 * h * (a.*v)[i] + h01 * (b.*p)[i] + h11 * h * (b.*v)[i];
+    for (auto [p, v, out] : {std::tuple{&SectionState::x, &SectionState::vx, &c.vx},
+                             {&SectionState::uy, &SectionState::vy, &c.vy}})
+      (*out)[i] = d00 * (a.*p)[i] + d10 * h * (a.*v)[i] + d01 * (b.*p)[i] + d11 * h * (b.*v)[i];
+  }
+  return c;
+}
 
 Record::Record(Section anterior, Section posterior, double frame_rate, double whole_eye_x,
                std::vector<std::pair<std::string, std::function<double(double)>>> known)
@@ -97,8 +114,10 @@ void Record::add(double t, const Columns& given, const Columns& solver)
     if (tf > t + 1e-9)
       break;
     const double s = std::clamp((tf - _last->t) / (t - _last->t), 0.0, 1.0);
-    Instant frame{tf, blend(_last->anterior, now.anterior, s),
-                  blend(_last->posterior, now.posterior, s), blend(_last->state, now.state, s)};
+    const double h = t - _last->t;
+    Instant frame{tf, hermite(_last->anterior, now.anterior, s, h),
+                  hermite(_last->posterior, now.posterior, s, h),
+                  blend(_last->state, now.state, s)};
     for (std::size_t i = 0; i < _known.size(); ++i)
       frame.state[i] = _known[i].second(tf);
     _frames.push_back(std::move(frame));

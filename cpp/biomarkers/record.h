@@ -18,8 +18,16 @@ namespace nct::biomarkers
 /// Named scalars of one instant, e.g. {"iop_mmHg", 15.2}.
 using Columns = std::vector<std::pair<std::string, double>>;
 
+/// The section at s in [0, 1] of a step from a to b, h [ms] long: each
+/// node's position and axial displacement by the cubic Hermite interpolant
+/// of its values and velocities at both ends (exact for cubics: O(h^4)
+/// against the linear blend's O(h^2), which flattens the apex's peak by
+/// about h^2 |u''| / 8), its velocity by the interpolant's derivative.
+SectionState hermite(const SectionState& a, const SectionState& b, double s, double h);
+
 /// Frames at times k / frame_rate from the start of the puff (t = 0),
-/// linear in time between the solver's steps, which may be irregular.
+/// interpolated between the solver's steps (which may be irregular): the
+/// corneal sections by `hermite`, the state's scalars linearly.
 /// Every rank holds the same record.
 class Record
 {

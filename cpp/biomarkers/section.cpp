@@ -70,18 +70,22 @@ Section::Section(const solid::Problem& problem, const std::vector<std::int32_t>&
 
 SectionState Section::sample() const
 {
-  const auto u = _problem.u->x()->array();
+  // v_old holds the velocity of the last converged step (zero until the
+  // dynamics start).
+  const auto u = _problem.u->x()->array(), v = _problem.v_old->x()->array();
   std::vector<double> local;
   for (std::int32_t d : _nodes)
-    local.insert(local.end(), {u[3 * d], u[3 * d + 1]});
+    local.insert(local.end(), {u[3 * d], u[3 * d + 1], v[3 * d], v[3 * d + 1]});
   const std::vector<double> all = meshio::all_gather(_comm, local);
   SectionState s;
   for (std::size_t i : _order)
   {
     s.X.push_back(_X[2 * i]);
-    s.x.push_back(_X[2 * i] + all[2 * i]);
-    s.y.push_back(_X[2 * i + 1] + all[2 * i + 1]);
-    s.uy.push_back(all[2 * i + 1]);
+    s.x.push_back(_X[2 * i] + all[4 * i]);
+    s.y.push_back(_X[2 * i + 1] + all[4 * i + 1]);
+    s.uy.push_back(all[4 * i + 1]);
+    s.vx.push_back(all[4 * i + 2]);
+    s.vy.push_back(all[4 * i + 3]);
   }
   return s;
 }

@@ -22,6 +22,8 @@ struct SectionState
   std::vector<double> x;  ///< current x [mm]
   std::vector<double> y;  ///< current height along the axis [mm]
   std::vector<double> uy; ///< axial displacement [mm]
+  std::vector<double> vx; ///< velocity across the section [mm/ms = m/s]
+  std::vector<double> vy; ///< axial velocity [mm/ms = m/s]
 
   /// The full section (mirrored about the axis, quarter symmetry).
   Profile profile() const;
