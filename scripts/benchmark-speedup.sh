@@ -1,9 +1,12 @@
 #!/bin/sh
 # The same scene with two builds, alternating, back to back: how much faster
 # this build is than another (e.g. an older commit's), and what moved.
-# Usage: scripts/benchmark-speedup.sh OTHER_NCT [pairs] [scene] [ranks]
+# Usage: [OTHER_SCENE=file] scripts/benchmark-speedup.sh OTHER_NCT [pairs] [scene] [ranks]
 #   e.g. git worktree add ../nct-581e1cc 581e1cc && (cd ../nct-581e1cc && scripts/build.sh)
-#        scripts/benchmark-speedup.sh ../nct-581e1cc/build/nct 4
+#        OTHER_SCENE=../nct-581e1cc/scenes/default.toml \
+#          scripts/benchmark-speedup.sh ../nct-581e1cc/build/nct 4
+# OTHER_SCENE (default: the same scene) is the scene the other build runs,
+# e.g. the scene file as it stood at that commit.
 # Prints each pair's wall times and ratio, the median ratio, and the largest
 # relative change of the Corvis biomarkers between the two builds.
 set -eu
@@ -13,13 +16,15 @@ other=$(realpath "$1")
 pairs=${2:-3}
 scene=${3:-scenes/default.toml}
 np=${4:-2}
+other_scene=${OTHER_SCENE:-$scene}
 out=$(mktemp -d)
 i=1
 while [ "$i" -le "$pairs" ]; do
   for build in other this; do
     exe=build/nct
-    [ "$build" = other ] && exe=$other
-    mpirun -n "$np" "$exe" run "$scene" --out "$out/$build-$i" > "$out/$build-$i.log" 2>&1 \
+    run_scene=$scene
+    [ "$build" = other ] && { exe=$other; run_scene=$other_scene; }
+    mpirun -n "$np" "$exe" run "$run_scene" --out "$out/$build-$i" > "$out/$build-$i.log" 2>&1 \
       || { echo "$build run $i failed:"; tail -5 "$out/$build-$i.log"; exit 1; }
   done
   i=$((i + 1))
