@@ -117,6 +117,10 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
   const double floor = std::ldexp(nominal, -_max_cuts), end = t0 + duration;
   double t = t0, dt = nominal, last_dt = -1, t_before = 0;
   bool two = false; // are there two states to extrapolate from?
+  // The extrapolating predictor: the problem's own, else the secant
+  // through the last two states (which only it needs to keep).
+  const bool extrapolate = _predictor == Predictor::extrapolate;
+  const bool secant = extrapolate && !problem.predict;
   int successes = 0;
   while (t < end - 1e-9 * nominal)
   {
@@ -129,9 +133,9 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
       newton.reset();
     last_dt = step;
     load(t + problem.load_level() * step);
-    if (_predictor == Predictor::extrapolate && problem.predict)
+    if (extrapolate && !secant)
       problem.predict();
-    else if (_predictor == Predictor::extrapolate && two)
+    else if (secant && two)
       saved.extrapolate(before, step / (t - t_before), system);
     solver::NewtonReport report;
     if (!attempt(newton, format("%s t = %.4f ms, dt = %.4g ms", phase.c_str(), t + step, step),
@@ -150,7 +154,7 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
       continue;
     }
     problem.advance();
-    if (_predictor == Predictor::extrapolate)
+    if (secant)
     {
       before.keep(saved);
       t_before = t;
