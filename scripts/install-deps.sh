@@ -14,8 +14,9 @@ packages=(
   openmpi-bin libopenmpi-dev libopenblas0
   # scene files, command line, JSON, tests
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev googletest libgtest-dev
-  # study statistics (Boost.Math: the F distribution)
-  libboost-dev
+  # study statistics (Boost.Math: the F distribution); fits (Ceres:
+  # Levenberg-Marquardt with bounds, covariance)
+  libboost-dev libceres-dev
   # scripts and test checks (read XDMF/HDF5, plots)
   python3-numpy python3-h5py python3-matplotlib
   # the study test's independent ANOVA (least squares, F tests)

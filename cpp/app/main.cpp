@@ -4,6 +4,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "fit/fit.h"
 #include "run/run.h"
 #include "scene/scene.h"
 #include "study/study.h"
@@ -60,6 +61,15 @@ int main(int argc, char* argv[])
       ->check(CLI::Range(1, 4096));
   study->add_flag("--dry-run", dry_run, "check every case and list them; run none");
 
+  std::string fit_file;
+  auto* fit = app.add_subcommand("fit", "fit scene keys (stiffness, IOP...) to a patient's "
+                                        "readings; resumes an interrupted fit");
+  fit->add_option("fit", fit_file, "fit file (TOML)")->required();
+  fit->add_option("--out", out, "fit folder (default: fits/<fit name>)");
+  fit->add_option("--jobs", jobs, "forward runs at once (default: the fit's)")
+      ->check(CLI::Range(1, 4096));
+  fit->add_flag("--dry-run", dry_run, "check the fit file and the start's scene; run nothing");
+
   auto* describe = app.add_subcommand("describe", "print every scene key with its documentation");
   describe->add_flag("--markdown", markdown, "as a Markdown table");
 
@@ -82,25 +92,38 @@ int main(int argc, char* argv[])
     return 0;
   }
 
-  // A study starts each case as an MPI job of its own: it is no MPI
-  // process itself.
-  if (study->parsed())
+  // A study or a fit starts each run as an MPI job of its own: it is no
+  // MPI process itself.
+  if (study->parsed() || fit->parsed())
   {
+    const std::string verb = study->parsed() ? "study" : "fit";
     if (const char* size = std::getenv("OMPI_COMM_WORLD_SIZE"); size && std::atoi(size) > 1)
     {
-      std::cerr << "error: nct study starts an MPI job per case: run it without mpirun "
-                   "(study.ranks sets the ranks of each case)"
-                << std::endl;
+      std::cerr << "error: nct " << verb << " starts an MPI job per run: run it without mpirun "
+                << "(" << verb << ".ranks sets the ranks of each run)" << std::endl;
       return 2;
     }
     try
     {
+      const auto program = std::filesystem::read_symlink("/proc/self/exe");
+      if (fit->parsed())
+      {
+        auto f = nct::fit::Fit::load(fit_file);
+        nct::fit::Options options;
+        options.out = out.empty() ? std::filesystem::path("fits")
+                                        / std::filesystem::path(fit_file).stem()
+                                  : std::filesystem::path(out);
+        options.program = program;
+        options.jobs = jobs;
+        options.dry_run = dry_run;
+        return nct::fit::run(f, options);
+      }
       auto s = nct::study::Study::load(study_file);
       nct::study::Options options;
       options.out = out.empty() ? std::filesystem::path("studies")
                                       / std::filesystem::path(study_file).stem()
                                 : std::filesystem::path(out);
-      options.program = std::filesystem::read_symlink("/proc/self/exe");
+      options.program = program;
       options.jobs = jobs;
       options.dry_run = dry_run;
       return nct::study::run(s, options);

@@ -25,6 +25,8 @@
 
 #include "io/format.h"
 #include "io/output.h"
+#include "io/toml_input.h"
+#include "jobs/jobs.h"
 #include "scene/scene.h"
 #include "study/analysis.h"
 
@@ -33,6 +35,12 @@ extern char** environ;
 namespace nct::study
 {
 using io::format;
+using io::key_error;
+using io::literal;
+using io::check_name;
+using io::string_list;
+using jobs::read_text;
+using jobs::tail;
 using scene::Error;
 namespace fs = std::filesystem;
 
@@ -66,90 +74,25 @@ namespace
 // The study file
 // ---------------------------------------------------------------------------
 
-/// "file: key 'name': what"
-Error key_error(const fs::path& file, const std::string& key, const std::string& what)
-{
-  return Error(file.string() + ": key '" + key + "': " + what);
-}
 
-/// The TOML literal of a value node (what --set takes).
-std::string literal(const toml::node& v)
-{
-  if (auto x = v.value_exact<double>()) // shortest round trip: 0.05, not 0.050000000000000003
-  {
-    char text[64];
-    std::string out(text, std::to_chars(text, text + sizeof text, *x).ptr);
-    if (std::isfinite(*x) && out.find_first_of(".e") == std::string::npos)
-      out += ".0";
-    return out;
-  }
-  std::ostringstream out;
-  v.visit([&](auto&& x) { out << x; });
-  return out.str();
-}
 
-/// A name that labels a CSV column or row: letters, digits and _.+- only.
-void check_name(const fs::path& file, const std::string& key, const std::string& name,
-                const std::string& labels)
-{
-  static const std::regex ok("[A-Za-z0-9_.+-]+");
-  if (!std::regex_match(name, ok))
-    throw key_error(file, key, "'" + name + "': letters, digits and _.+- only (it names "
-                                   + labels + ")");
-}
 
 /// A scene file named at `key`, relative to the study file; it must exist.
 fs::path scene_path(const fs::path& file, const std::string& key, const toml::node* node)
 {
-  auto path = node ? node->value_exact<std::string>() : std::nullopt;
-  if (!path)
-    throw key_error(file, key, node ? "expected a string (a scene file relative to the study "
-                                      "file), got " + literal(*node)
-                                    : std::string("missing or not a string: the base scene file"));
-  fs::path scene = fs::path(*path).is_absolute() ? fs::path(*path) : file.parent_path() / *path;
-  std::error_code ec;
-  if (!fs::is_regular_file(scene, ec))
-    throw key_error(file, key, "scene file " + scene.string() + " not found");
-  return scene;
+  return io::file_path(file, key, node, "scene file");
 }
 
-/// An array of strings, or one string taken as an array of one.
-std::vector<std::string> string_list(const toml::node& v, const fs::path& file,
-                                     const std::string& key, bool one_allowed)
-{
-  std::vector<std::string> out;
-  if (one_allowed && v.is_string())
-    return {*v.value<std::string>()};
-  const auto* a = v.as_array();
-  if (!a)
-    throw key_error(file, key, one_allowed ? "expected a string or an array of strings"
-                                           : "expected an array of strings");
-  for (auto&& e : *a)
-  {
-    if (!e.is_string())
-      throw key_error(file, key, "expected strings, got " + literal(e));
-    out.push_back(*e.value<std::string>());
-  }
-  return out;
-}
 
 /// Refuse keys of `t` not in `known`.
 void only(const toml::table& t, const std::set<std::string>& known, const fs::path& file,
           const std::string& where)
 {
-  for (auto&& [k, v] : t)
-    if (!known.count(std::string(k.str())))
-    {
-      std::string list;
-      for (auto& n : known)
-        list += (list.empty() ? "" : ", ") + n;
-      const std::string table = where.empty()                  ? "a study file"
-                                : where == "study."           ? "[study]"
-                                : where.rfind("variant", 0) == 0 ? "[[variant]]"
-                                                              : "[[factor]]";
-      throw key_error(file, where + std::string(k.str()), "unknown key; " + table + " takes "
-                                                              + list);
-    }
+  const std::string table = where.empty()                    ? "a study file"
+                            : where == "study."             ? "[study]"
+                            : where.rfind("variant", 0) == 0 ? "[[variant]]"
+                                                            : "[[factor]]";
+  io::only(t, known, file, where, table);
 }
 
 std::string case_name(std::size_t i, std::size_t n)
@@ -327,20 +270,7 @@ void read_variants(const toml::table& t, Study& s)
 
 Study Study::load(const fs::path& file)
 {
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec))
-    throw Error(file.string() + ": study file not found");
-  toml::table t;
-  try
-  {
-    t = toml::parse_file(file.string());
-  }
-  catch (const toml::parse_error& e)
-  {
-    throw Error(file.string() + format(":%u:%u: not valid TOML: ", e.source().begin.line,
-                                       e.source().begin.column)
-                + std::string(e.description()));
-  }
+  const toml::table t = io::parse_toml(file, "study file");
   only(t, {"study", "factor", "variant"}, file, "");
   const toml::table* st = t["study"].as_table();
   if (!st)
@@ -439,162 +369,11 @@ Study Study::load(const fs::path& file)
 namespace
 {
 
-// ---------------------------------------------------------------------------
-// Running the cases: child processes of the nct executable
-// ---------------------------------------------------------------------------
-
-volatile std::sig_atomic_t interrupted = 0;
-void on_signal(int) { interrupted = 1; }
-
-/// The environment without an enclosing MPI job's variables, so that each
-/// case starts an MPI job of its own.
-std::vector<std::string> clean_environment()
-{
-  std::vector<std::string> env;
-  for (char** e = environ; *e; ++e)
-  {
-    std::string v = *e;
-    if (v.rfind("OMPI_COMM_WORLD", 0) == 0 || v.rfind("OMPI_MCA_orte_", 0) == 0
-        || v.rfind("OMPI_MCA_ess", 0) == 0 || v.rfind("OMPI_MCA_pmix", 0) == 0
-        || v.rfind("PMIX_", 0) == 0 || v.rfind("PMI_", 0) == 0)
-      continue;
-    env.push_back(v);
-  }
-  return env;
-}
-
-/// Start `argv` with stdout and stderr into `log`; returns its pid.
-pid_t spawn(const std::vector<std::string>& argv, const fs::path& log)
-{
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  std::vector<char*> args;
-  for (auto& a : argv)
-    args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  static const std::vector<std::string> env_strings = clean_environment();
-  std::vector<char*> env;
-  for (auto& e : env_strings)
-    env.push_back(const_cast<char*>(e.c_str()));
-  env.push_back(nullptr);
-  pid_t pid = 0;
-  int err = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), env.data());
-  posix_spawn_file_actions_destroy(&actions);
-  if (err != 0)
-    throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(err));
-  return pid;
-}
-
-std::string read_text(const fs::path& file)
-{
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-/// The last `n` lines of a text, for messages.
-std::string tail(const std::string& text, std::size_t n)
-{
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);)
-    lines.push_back(line);
-  std::string out;
-  for (std::size_t i = lines.size() > n ? lines.size() - n : 0; i < lines.size(); ++i)
-    out += lines[i] + "\n";
-  return out;
-}
-
-struct Job
-{
-  std::vector<std::string> argv;
-  fs::path log;
-};
-
-/// Run jobs `jobs` at a time; `done(i, exit code)` after each. Returns
-/// false when interrupted: the running jobs are stopped, and `done` is
-/// called for them too (one may have finished just before the signal).
-bool run_jobs(const std::vector<Job>& jobs, int at_once,
-              const std::function<void(std::size_t, int)>& done)
-{
-  std::map<pid_t, std::size_t> running;
-  std::size_t next = 0;
-  while (next < jobs.size() || !running.empty())
-  {
-    while (!interrupted && next < jobs.size() && int(running.size()) < at_once)
-    {
-      running[spawn(jobs[next].argv, jobs[next].log)] = next;
-      ++next;
-    }
-    if (interrupted)
-    {
-      for (auto& [pid, i] : running)
-        kill(pid, SIGTERM);
-      // A job may have finished just before the signal: keep it.
-      for (auto& [pid, i] : running)
-      {
-        int status = 0;
-        waitpid(pid, &status, 0);
-        done(i, WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status));
-      }
-      return false;
-    }
-    int status = 0;
-    pid_t pid = waitpid(-1, &status, 0);
-    if (pid < 0)
-    {
-      if (errno == EINTR)
-        continue;
-      throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
-    }
-    auto it = running.find(pid);
-    if (it == running.end())
-      continue;
-    const std::size_t i = it->second;
-    running.erase(it);
-    done(i, WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status));
-  }
-  return true;
-}
-
-std::vector<std::string> split_words(const std::string& text)
-{
-  std::istringstream in(text);
-  std::vector<std::string> out;
-  std::string w;
-  while (in >> w)
-    out.push_back(w);
-  return out;
-}
-
 /// The command of one case: nct <verb> scene --set ... [--out dir].
 std::vector<std::string> command(const Study& s, const Options& o, const Case& c,
                                  const std::string& verb, const fs::path& out)
 {
-  std::vector<std::string> argv;
-  if (s.ranks > 1 && verb == "run")
-  {
-    argv = split_words(s.mpiexec);
-    argv.push_back("-n");
-    argv.push_back(std::to_string(s.ranks));
-  }
-  argv.push_back(o.program.string());
-  argv.push_back(verb);
-  argv.push_back(fs::absolute(c.scene).string());
-  for (auto& set : c.sets)
-  {
-    argv.push_back("--set");
-    argv.push_back(set);
-  }
-  if (verb == "run")
-  {
-    argv.push_back("--out");
-    argv.push_back(out.string());
-  }
-  return argv;
+  return jobs::nct_command(o.program, verb, c.scene, c.sets, out, s.ranks, s.mpiexec);
 }
 
 // ---------------------------------------------------------------------------
@@ -956,7 +735,7 @@ void analyse_ablation(const Study& s, const std::vector<Result>& results, const 
 int run(const Study& s, const Options& o)
 {
   const std::size_t n = s.cases.size();
-  const int jobs = o.jobs > 0 ? o.jobs : s.jobs;
+  const int at_once = o.jobs > 0 ? o.jobs : s.jobs;
   std::error_code ec;
   fs::create_directories(o.out / "cases", ec);
   if (ec)
@@ -992,22 +771,19 @@ int run(const Study& s, const Options& o)
             << (s.variants.empty() ? format("%zu factor(s)", s.factors.size())
                                    : format("%zu variants", s.variants.size()))
             << ", " << n << " cases (" << n - todo.size() << " already done), "
-            << jobs << " at once on " << s.ranks << " rank(s) each -> " << o.out.string()
+            << at_once << " at once on " << s.ranks << " rank(s) each -> " << o.out.string()
             << std::endl;
 
-  struct sigaction action = {};
-  action.sa_handler = on_signal;
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
+  jobs::catch_interrupts();
 
   // Check every case to run (nct check: the eye geometry, the puff...)
   // before running any.
-  std::vector<Job> checks;
+  std::vector<jobs::Job> checks;
   for (std::size_t c : todo)
     checks.push_back({command(s, o, s.cases[c], "check", {}),
                       o.out / "cases" / (case_name(c, n) + ".check.log")});
   std::string bad;
-  const bool checked = run_jobs(checks, std::max(jobs * s.ranks, 1),
+  const bool checked = jobs::run(checks, std::max(at_once * s.ranks, 1),
                                 [&](std::size_t i, int code)
                                 {
                                   if (code != 0 && bad.empty())
@@ -1047,7 +823,7 @@ int run(const Study& s, const Options& o)
   }
 
   io::write_atomic(o.out / "study.toml", read_text(s.file));
-  std::vector<Job> runs;
+  std::vector<jobs::Job> runs;
   for (std::size_t c : todo)
   {
     const fs::path dir = o.out / "cases" / case_name(c, n);
@@ -1063,15 +839,15 @@ int run(const Study& s, const Options& o)
   const auto start = std::chrono::steady_clock::now();
   std::size_t finished = n - todo.size();
   io::write_atomic(o.out / "cases.csv", cases_csv(s, results));
-  const bool complete = run_jobs(
-      runs, jobs,
+  const bool complete = jobs::run(
+      runs, at_once,
       [&](std::size_t i, int code)
       {
         const std::size_t c = todo[i];
         const fs::path dir = o.out / "cases" / case_name(c, n);
         if (fs::exists(dir / "summary.json"))
           results[c] = read_result(s, dir);
-        else if (interrupted)
+        else if (jobs::interrupted())
           return; // stopped: it stays pending
         else
         {

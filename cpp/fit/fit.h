@@ -1,0 +1,85 @@
+// Inverse identification: the scene keys (stiffness, IOP...) whose puff
+// best explains a patient's Corvis readings, with their uncertainty.
+// Levenberg-Marquardt with bounds (Ceres) on the weighted residuals;
+// sensitivities by finite differences, every forward run a child nct run
+// as a study's case, cached so that an interrupted fit resumes.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace nct::fit
+{
+
+/// A fitted parameter: one or more scene keys set together.
+struct Parameter
+{
+  std::string label;             ///< its column (default: the first key's last part)
+  std::vector<std::string> keys; ///< scene keys, e.g. material.cornea.c10
+  double start;                  ///< the first guess
+  double lower, upper;           ///< bounds (lower < start < upper)
+  bool log;                      ///< fitted as log(value) (lower > 0)
+  bool prior = false;            ///< a measured value with its SD (e.g. IOP by tonometry)
+  double prior_mean = 0, prior_sd = 0;
+};
+
+/// What an observation compares.
+enum class Kind
+{
+  biomarker, ///< a summary.json value
+  curve,     ///< a frames.csv column against time (default: the apex displacement)
+  profile    ///< the corneal profile (profiles.csv) at given times and x
+};
+
+/// One observation: one or more measured points with their SDs.
+struct Observation
+{
+  std::string label;
+  Kind kind;
+  std::string quantity;      ///< biomarker key, frames.csv column, or profile surface
+  std::filesystem::path file; ///< the CSV of a curve or profile
+  bool relative = true;      ///< profile: y is the displacement from the t = 0 profile
+  std::vector<double> t, x, value, sd; ///< per point (a biomarker: one, t and x unused)
+};
+
+/// A validated fit file (README "Fitting a patient's readings").
+struct Fit
+{
+  std::filesystem::path file;
+  std::filesystem::path scene;   ///< the base scene
+  std::vector<std::string> sets; ///< overrides of every forward run
+  std::vector<Parameter> parameters;
+  std::vector<Observation> observations;
+  int ranks = 1, jobs = 1;
+  std::string mpiexec;
+  int max_iterations = 20;
+  double step = 0.01;            ///< finite-difference step in the fitted variable (relative)
+  bool central = false;          ///< central differences (2 runs per parameter)
+  double tolerance = 1e-4;       ///< stop when the cost or the parameters change less
+
+  /// Read and validate a fit file: its keys, the parameters' keys and
+  /// bounds against the scene, the observations' files and whether the
+  /// scene can produce them. Throws scene::Error before anything runs.
+  static Fit load(const std::filesystem::path& file);
+
+  /// Weighted residuals: observation points, then priors.
+  std::size_t residuals() const;
+};
+
+/// Command-line settings of a fit.
+struct Options
+{
+  std::filesystem::path out;     ///< fit folder
+  std::filesystem::path program; ///< the nct executable that runs the forward runs
+  int jobs = 0;                  ///< overrides the fit's when > 0
+  bool dry_run = false;          ///< check the fit and the start's scene; run nothing
+};
+
+/// Run (or resume) a fit into out: fit.json, iterations.csv,
+/// observations.csv and the forward runs in out/runs. Returns 0 when the
+/// fit converged, 3 when it stopped otherwise (results written, status
+/// says why), 130 when interrupted (the same command resumes it).
+int run(const Fit& fit, const Options& options);
+
+} // namespace nct::fit

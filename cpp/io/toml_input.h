@@ -1,0 +1,51 @@
+// Reading the input files that drive many runs (studies, fits): TOML
+// tables checked key by key, with errors naming the file and the key.
+#pragma once
+
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "scene/scene.h"
+
+namespace nct::io
+{
+
+/// "file: key 'name': what"
+scene::Error key_error(const std::filesystem::path& file, const std::string& key,
+                       const std::string& what);
+
+/// Parse a TOML file (a `what`, e.g. "study file"); throws scene::Error
+/// naming the file, and the line and column of a syntax error.
+toml::table parse_toml(const std::filesystem::path& file, const std::string& what);
+
+/// The TOML literal of a value node (what --set takes); numbers in their
+/// shortest round trip (0.05, not 0.050000000000000003).
+std::string literal(const toml::node& v);
+
+/// The shortest TOML literal of a real number that reads back to it.
+std::string literal(double x);
+
+/// An array of strings, or (when `one_allowed`) one string taken as an
+/// array of one.
+std::vector<std::string> string_list(const toml::node& v, const std::filesystem::path& file,
+                                     const std::string& key, bool one_allowed);
+
+/// Refuse keys of `t` not in `known`: "unknown key; `table` takes ...".
+/// `where` prefixes the key in the message (e.g. "factor[2].").
+void only(const toml::table& t, const std::set<std::string>& known,
+          const std::filesystem::path& file, const std::string& where, const std::string& table);
+
+/// A file named by a string at `key`, relative to `file`'s folder; it must
+/// exist. `what` says what it is for the messages.
+std::filesystem::path file_path(const std::filesystem::path& file, const std::string& key,
+                                const toml::node* node, const std::string& what);
+
+/// A name that labels a CSV column or row: letters, digits and _.+- only.
+void check_name(const std::filesystem::path& file, const std::string& key,
+                const std::string& name, const std::string& labels);
+
+} // namespace nct::io
