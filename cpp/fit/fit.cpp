@@ -29,9 +29,11 @@ namespace
 
 const double nan = std::numeric_limits<double>::quiet_NaN();
 
-/// A fitted parameter's value from its fitted variable, and back.
-double value(const Parameter& p, double theta) { return p.log ? std::exp(theta) : theta; }
-double variable(const Parameter& p, double v) { return p.log ? std::log(v) : v; }
+/// A fitted parameter's value from its fitted variable, and back: on a
+/// log scale the variable is log(value / start), so that the start's
+/// value is exact (0.05, not 0.05000000000000001).
+double value(const Parameter& p, double theta) { return p.log ? p.start * std::exp(theta) : theta; }
+double variable(const Parameter& p, double v) { return p.log ? std::log(v / p.start) : v; }
 
 /// A column of a CSV table with a header, by name.
 std::map<std::string, std::vector<double>> read_table(const fs::path& file,
@@ -332,7 +334,12 @@ std::vector<double> weighted(const Fit& fit, const std::vector<double>& model,
 class Cost : public ceres::CostFunction
 {
 public:
-  Cost(const Fit& fit, Forward& forward) : _fit(fit), _forward(forward)
+  /// `at_once`: forward runs at once; when a point and its neighbours fit
+  /// in one batch, a point's residuals come with its neighbours' runs
+  /// (the Jacobian, if the step is taken, then costs no wait).
+  Cost(const Fit& fit, Forward& forward, int at_once)
+      : _fit(fit), _forward(forward),
+        _speculate(int(fit.parameters.size()) * (fit.central ? 2 : 1) + 1 <= at_once)
   {
     set_num_residuals(int(fit.residuals()));
     mutable_parameter_block_sizes()->push_back(int(fit.parameters.size()));
@@ -345,7 +352,7 @@ public:
     const std::vector<double> theta(parameters[0], parameters[0] + n);
     std::vector<std::vector<double>> points = {theta};
     const bool jacobian = jacobians && jacobians[0];
-    if (jacobian)
+    if (jacobian || _speculate)
       for (std::size_t i = 0; i < n; ++i)
       {
         // Two points per parameter: theta + h and theta (forward) or
@@ -402,6 +409,7 @@ public:
 private:
   const Fit& _fit;
   Forward& _forward;
+  bool _speculate;
 };
 
 /// A progress line and a row of iterations.csv per iteration; stops the
@@ -452,6 +460,127 @@ private:
   std::ostringstream _csv;
 };
 
+/// Per parameter: start, value, standard error, 95 % interval, bounds,
+/// prior; warnings for one that ends at a bound.
+nlohmann::json describe_parameters(const Fit& fit, const std::vector<double>& theta,
+                                   const std::vector<double>& covariance,
+                                   std::vector<std::string>& warnings)
+{
+  const std::size_t n = fit.parameters.size();
+  auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
+  nlohmann::json parameters = nlohmann::json::array();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const Parameter& p = fit.parameters[i];
+    const double v = value(p, theta[i]), se_theta = std::sqrt(covariance[i * n + i]);
+    nlohmann::json j = {{"label", p.label}, {"keys", p.keys},   {"start", p.start},
+                        {"value", v},       {"lower", p.lower}, {"upper", p.upper},
+                        {"log", p.log}};
+    // Standard error of the value (on a log scale by the delta method);
+    // the 95 % interval on the fitted variable's scale.
+    j["se"] = number(p.log ? v * se_theta : se_theta);
+    j["ci95"] = {number(value(p, theta[i] - 1.959964 * se_theta)),
+                 number(value(p, theta[i] + 1.959964 * se_theta))};
+    const double span = variable(p, p.upper) - variable(p, p.lower);
+    j["at_bound"] = std::min(theta[i] - variable(p, p.lower), variable(p, p.upper) - theta[i])
+                    < 1e-6 * span;
+    if (j["at_bound"])
+      warnings.push_back(p.label + " ended at a bound: widen it, or the data push it there "
+                         "(its interval does not hold)");
+    if (p.prior)
+      j["prior"] = {{"mean", p.prior_mean}, {"sd", p.prior_sd}};
+    parameters.push_back(j);
+  }
+  return parameters;
+}
+
+/// The parameters' correlation matrix (null where unknown); a warning for
+/// every pair beyond |0.95|.
+nlohmann::json correlation(const Fit& fit, const std::vector<double>& covariance,
+                           std::vector<std::string>& warnings)
+{
+  const std::size_t n = fit.parameters.size();
+  nlohmann::json correlation = nlohmann::json::array();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    nlohmann::json row = nlohmann::json::array();
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      const double c = covariance[i * n + j]
+                       / std::sqrt(covariance[i * n + i] * covariance[j * n + j]);
+      row.push_back(std::isfinite(c) ? nlohmann::json(c) : nlohmann::json());
+      if (j > i && std::abs(c) > 0.95)
+        warnings.push_back(format("%s and %s correlate at %.3f: the data cannot separate them",
+                                  fit.parameters[i].label.c_str(),
+                                  fit.parameters[j].label.c_str(), c));
+    }
+    correlation.push_back(row);
+  }
+  return correlation;
+}
+
+/// Each observation's fit (its weighted RMS residual; a biomarker's
+/// values), and every measured point and prior as a row of `csv`.
+nlohmann::json describe_observations(const Fit& fit, const std::vector<double>& theta,
+                                     const std::vector<double>& r,
+                                     const std::vector<double>& model, std::string& csv)
+{
+  std::ostringstream rows;
+  rows << "observation,kind,t_ms,x_mm,measured,model,sd,residual\n";
+  nlohmann::json observations = nlohmann::json::array();
+  std::size_t j = 0;
+  static const char* kinds[] = {"biomarker", "curve", "profile"};
+  auto cell = [](double x) { return std::isnan(x) ? std::string() : io::literal(x); };
+  for (auto& ob : fit.observations)
+  {
+    double sum2 = 0;
+    for (std::size_t i = 0; i < ob.value.size(); ++i, ++j)
+    {
+      sum2 += r[j] * r[j];
+      rows << ob.label << "," << kinds[int(ob.kind)] << "," << cell(ob.t[i]) << ","
+           << cell(ob.x[i]) << "," << io::literal(ob.value[i]) << "," << io::literal(model[j])
+           << "," << io::literal(ob.sd[i]) << "," << io::literal(r[j]) << "\n";
+    }
+    nlohmann::json e = {{"label", ob.label}, {"kind", kinds[int(ob.kind)]},
+                        {"quantity", ob.quantity}, {"points", ob.value.size()},
+                        {"rms_weighted_residual", std::sqrt(sum2 / double(ob.value.size()))}};
+    if (ob.kind == Kind::biomarker)
+      e.update({{"measured", ob.value[0]}, {"model", model[j - 1]}, {"sd", ob.sd[0]},
+                {"residual", r[j - 1]}});
+    else
+      e["file"] = fs::absolute(ob.file).string();
+    observations.push_back(e);
+  }
+  for (std::size_t i = 0; i < fit.parameters.size(); ++i)
+    if (const auto& p = fit.parameters[i]; p.prior)
+      rows << "prior_" << p.label << ",prior,,," << io::literal(p.prior_mean) << ","
+           << io::literal(value(p, theta[i])) << "," << io::literal(p.prior_sd) << ","
+           << io::literal(r[j++]) << "\n";
+  csv = rows.str();
+  return observations;
+}
+
+/// The answer's summary on stdout.
+void print_answer(const nlohmann::json& out, const fs::path& folder)
+{
+  std::cout << "\nfit: " << out["status"].get<std::string>() << " after "
+            << out["iterations"].get<int>() << " iterations, " << out["forward_runs"].get<int>()
+            << " forward runs (" << out["forward_runs_reused"].get<int>() << " reused), "
+            << format("%.0f s; chi2 %.4g for %d dof", out["wall_s"].get<double>(),
+                      out["chi2"].get<double>(), out["dof"].get<int>())
+            << "\n";
+  auto bound = [](const nlohmann::json& x)
+  { return x.is_null() ? std::string("?") : format("%.4g", x.get<double>()); };
+  for (auto& p : out["parameters"])
+    std::cout << format("  %-16s %.6g  95%% [%s, %s]\n", p["label"].get<std::string>().c_str(),
+                        p["value"].get<double>(), bound(p["ci95"][0]).c_str(),
+                        bound(p["ci95"][1]).c_str());
+  for (auto& w : out["warnings"])
+    std::cout << "  warning: " << w.get<std::string>() << "\n";
+  std::cout << "fit.json, iterations.csv, observations.csv in " << folder.string()
+            << "; plots: /usr/bin/python3 scripts/plot-fit.py " << folder.string() << std::endl;
+}
+
 } // namespace
 
 int run(const Fit& fit, const Options& o)
@@ -459,7 +588,8 @@ int run(const Fit& fit, const Options& o)
   const auto start = std::chrono::steady_clock::now();
   const std::size_t n = fit.parameters.size(), m = fit.residuals();
   fs::create_directories(o.out);
-  if (fs::exists(o.out / "fit.toml") && jobs::read_text(o.out / "fit.toml") != jobs::read_text(fit.file))
+  if (fs::exists(o.out / "fit.toml")
+      && jobs::read_text(o.out / "fit.toml") != jobs::read_text(fit.file))
     throw scene::Error(fit.file.string() + ": " + o.out.string() + " holds another fit (its "
                        "fit.toml differs); give a new --out or remove it");
   jobs::catch_interrupts();
@@ -505,12 +635,13 @@ int run(const Fit& fit, const Options& o)
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
-  Cost cost(fit, forward);
+  Cost cost(fit, forward, o.jobs > 0 ? o.jobs : fit.jobs);
   problem.AddResidualBlock(&cost, nullptr, theta.data());
   for (std::size_t i = 0; i < n; ++i)
   {
-    problem.SetParameterLowerBound(theta.data(), int(i), variable(fit.parameters[i], fit.parameters[i].lower));
-    problem.SetParameterUpperBound(theta.data(), int(i), variable(fit.parameters[i], fit.parameters[i].upper));
+    const Parameter& p = fit.parameters[i];
+    problem.SetParameterLowerBound(theta.data(), int(i), variable(p, p.lower));
+    problem.SetParameterUpperBound(theta.data(), int(i), variable(p, p.upper));
   }
   ceres::Solver::Options options;
   options.minimizer_type = ceres::TRUST_REGION;
@@ -585,87 +716,11 @@ int run(const Fit& fit, const Options& o)
   out["residuals"] = m;
   out["dof"] = int(m) - int(n);
   out["reduced_chi2"] = m > n ? chi2 / double(m - n) : nan;
-  nlohmann::json parameters = nlohmann::json::array();
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const Parameter& p = fit.parameters[i];
-    const double v = value(p, theta[i]), se_theta = std::sqrt(covariance[i * n + i]);
-    nlohmann::json j = {{"label", p.label},       {"keys", p.keys},
-                        {"start", p.start},       {"value", v},
-                        {"lower", p.lower},       {"upper", p.upper},
-                        {"log", p.log}};
-    auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
-    // Standard error of the value (on a log scale by the delta method);
-    // the 95 % interval on the fitted variable's scale.
-    j["se"] = number(p.log ? v * se_theta : se_theta);
-    j["ci95"] = {number(value(p, theta[i] - 1.959964 * se_theta)),
-                 number(value(p, theta[i] + 1.959964 * se_theta))};
-    const double span = variable(p, p.upper) - variable(p, p.lower);
-    j["at_bound"] = std::min(theta[i] - variable(p, p.lower), variable(p, p.upper) - theta[i])
-                    < 1e-6 * span;
-    if (j["at_bound"])
-      warnings.push_back(p.label + " ended at a bound: widen it, or the data push it there "
-                         "(its interval does not hold)");
-    if (p.prior)
-      j["prior"] = {{"mean", p.prior_mean}, {"sd", p.prior_sd}};
-    parameters.push_back(j);
-  }
-  out["parameters"] = parameters;
-  nlohmann::json correlation = nlohmann::json::array();
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    nlohmann::json row = nlohmann::json::array();
-    for (std::size_t j = 0; j < n; ++j)
-    {
-      const double c = covariance[i * n + j]
-                       / std::sqrt(covariance[i * n + i] * covariance[j * n + j]);
-      row.push_back(std::isfinite(c) ? nlohmann::json(c) : nlohmann::json());
-      if (j > i && std::abs(c) > 0.95)
-        warnings.push_back(format("%s and %s correlate at %.3f: the data cannot separate them",
-                                  fit.parameters[i].label.c_str(),
-                                  fit.parameters[j].label.c_str(), c));
-    }
-    correlation.push_back(row);
-  }
-  out["correlation"] = correlation;
+  out["parameters"] = describe_parameters(fit, theta, covariance, warnings);
+  out["correlation"] = correlation(fit, covariance, warnings);
 
-  // Each observation's fit, and the points in observations.csv.
-  std::ostringstream csv;
-  csv << "observation,kind,t_ms,x_mm,measured,model,sd,residual\n";
-  nlohmann::json observations = nlohmann::json::array();
-  std::size_t j = 0;
-  static const char* kinds[] = {"biomarker", "curve", "profile"};
-  for (auto& ob : fit.observations)
-  {
-    double sum2 = 0;
-    for (std::size_t i = 0; i < ob.value.size(); ++i, ++j)
-    {
-      sum2 += r[j] * r[j];
-      csv << ob.label << "," << kinds[int(ob.kind)] << ","
-          << (std::isnan(ob.t[i]) ? "" : io::literal(ob.t[i])) << ","
-          << (std::isnan(ob.x[i]) ? "" : io::literal(ob.x[i])) << "," << io::literal(ob.value[i])
-          << "," << io::literal(model[j]) << "," << io::literal(ob.sd[i]) << ","
-          << io::literal(r[j]) << "\n";
-    }
-    nlohmann::json e = {{"label", ob.label}, {"kind", kinds[int(ob.kind)]},
-                        {"quantity", ob.quantity}, {"points", ob.value.size()},
-                        {"rms_weighted_residual", std::sqrt(sum2 / double(ob.value.size()))}};
-    if (ob.kind == Kind::biomarker)
-      e.update({{"measured", ob.value[0]}, {"model", model[j - 1]}, {"sd", ob.sd[0]},
-                {"residual", r[j - 1]}});
-    else
-      e["file"] = fs::absolute(ob.file).string();
-    observations.push_back(e);
-  }
-  for (auto& p : fit.parameters)
-    if (p.prior)
-    {
-      csv << "prior_" << p.label << ",prior,,," << io::literal(p.prior_mean) << ","
-          << io::literal(value(p, theta[&p - fit.parameters.data()])) << ","
-          << io::literal(p.prior_sd) << "," << io::literal(r[j]) << "\n";
-      ++j;
-    }
-  out["observations"] = observations;
+  std::string csv;
+  out["observations"] = describe_observations(fit, theta, r, model, csv);
   out["warnings"] = warnings;
   out["best_run"] = fs::absolute(best).string();
   std::string command = "nct run " + fs::absolute(fit.scene).string();
@@ -674,24 +729,10 @@ int run(const Fit& fit, const Options& o)
       command += " --set " + s;
   out["command"] = command;
   out["wall_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  io::write_atomic(o.out / "observations.csv", csv.str());
+  io::write_atomic(o.out / "observations.csv", csv);
   io::write_atomic(o.out / "fit.json", out.dump(2) + "\n");
 
-  std::cout << "\nfit: " << out["status"].get<std::string>() << " after "
-            << out["iterations"].get<int>() << " iterations, " << forward.total()
-            << " forward runs (" << forward.reusable() << " reused), "
-            << format("%.0f s; chi2 %.4g for %d dof", out["wall_s"].get<double>(), chi2,
-                      int(m) - int(n))
-            << "\n";
-  for (auto& p : parameters)
-    std::cout << format("  %-16s %.6g  95%% [%s, %s]\n", p["label"].get<std::string>().c_str(),
-                        p["value"].get<double>(),
-                        p["ci95"][0].is_null() ? "?" : format("%.4g", p["ci95"][0].get<double>()).c_str(),
-                        p["ci95"][1].is_null() ? "?" : format("%.4g", p["ci95"][1].get<double>()).c_str());
-  for (auto& w : warnings)
-    std::cout << "  warning: " << w << "\n";
-  std::cout << "fit.json, iterations.csv, observations.csv in " << o.out.string()
-            << "; plots: /usr/bin/python3 scripts/plot-fit.py " << o.out.string() << std::endl;
+  print_answer(out, o.out);
   return summary.termination_type == ceres::CONVERGENCE ? 0 : 3;
 }
 

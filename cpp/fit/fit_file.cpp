@@ -372,7 +372,8 @@ Fit Fit::load(const fs::path& file)
   fit.jobs = integer("jobs", std::max(1L, cores / fit.ranks), 1, 4096);
   fit.mpiexec = (*ft)["mpiexec"].value_or<std::string>("mpiexec --bind-to none");
   if (fit.mpiexec.find_first_not_of(" \t") == std::string::npos)
-    throw key_error(file, "fit.mpiexec", "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
+    throw key_error(file, "fit.mpiexec",
+                    "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
   fit.max_iterations = integer("max_iterations", 20, 1, 1000);
   fit.step = real("step", 0.01, 0, 0.5);
   fit.tolerance = real("tolerance", 1e-4, 0, 1);

@@ -1,5 +1,8 @@
 #include "run/run.h"
 
+#include <cstdlib>
+#include <dlfcn.h>
+
 #include <sys/resource.h>
 
 #include <dolfinx/common/log.h>
@@ -165,6 +168,11 @@ Runtime::Runtime(const char* program)
   char** pargv = argv;
   PetscInitialize(&argc, &pargv, nullptr, nullptr);
   dolfinx::init_logging(argc, pargv);
+  // One BLAS thread per rank unless the environment says otherwise: the
+  // ranks fill the cores, and OpenBLAS' threads on top oversubscribe them.
+  if (!std::getenv("OPENBLAS_NUM_THREADS") && !std::getenv("OMP_NUM_THREADS"))
+    if (auto set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")))
+      set(1);
 }
 
 Runtime::~Runtime() { PetscFinalize(); }
