@@ -549,6 +549,8 @@ nlohmann::json describe_observations(const Fit& fit, const std::vector<double>& 
                 {"residual", r[j - 1]}});
     else
       e["file"] = fs::absolute(ob.file).string();
+    if (ob.kind == Kind::profile)
+      e["reference"] = ob.relative ? "rest" : "absolute";
     observations.push_back(e);
   }
   for (std::size_t i = 0; i < fit.parameters.size(); ++i)

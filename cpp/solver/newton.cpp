@@ -7,6 +7,7 @@
 
 #include <dolfinx/la/petsc.h>
 
+#include "io/format.h"
 #include "solver/dense.h"
 
 namespace nct::solver
@@ -45,6 +46,39 @@ std::string format_growth(double smallest, double r, double limit)
   s << "diverging: the residual norm grew from " << smallest << " to " << r
     << ", beyond " << limit << " times (solver.max_growth)";
   return s.str();
+}
+
+/// Why a preconditioner failed, for messages: ", PC: ..." (with MUMPS'
+/// INFOG(1): -9 and -8 its workspace, -10 a singular matrix), or "".
+std::string pc_failure(KSP ksp)
+{
+  PC pc;
+  KSPGetPC(ksp, &pc);
+  PCFailedReason mine = PC_NOERROR;
+  PCGetFailedReasonRank(pc, &mine);
+  // Any rank's failure (the lowest code; PC_SETUP_ERROR is -1).
+  int why = mine == PC_NOERROR ? 1000 : int(mine);
+  MPI_Allreduce(MPI_IN_PLACE, &why, 1, MPI_INT, MPI_MIN, PetscObjectComm((PetscObject)ksp));
+  if (why == 1000)
+    return "";
+  std::string out = std::string(", PC: ") + PCFailedReasons[why];
+  Mat F = nullptr;
+  PetscBool factor = PETSC_FALSE;
+  PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, "");
+  MatSolverType type = nullptr;
+  if (factor)
+  {
+    PCFactorGetMatSolverType(pc, &type);
+    PCFactorGetMatrix(pc, &F);
+  }
+  if (F && type && std::string(type) == MATSOLVERMUMPS)
+  {
+    PetscInt infog1 = 0, infog2 = 0;
+    MatMumpsGetInfog(F, 1, &infog1);
+    MatMumpsGetInfog(F, 2, &infog2);
+    out += io::format(", MUMPS INFOG(1) = %d, INFOG(2) = %d", int(infog1), int(infog2));
+  }
+  return out;
 }
 
 } // namespace
@@ -274,7 +308,8 @@ std::string Newton::newton_step(Work& w, bool assemble, const NewtonSettings& se
     timings.border += MPI_Wtime() - t;
   }
   if (reason < 0)
-    return std::string("the linear solver failed (") + KSPConvergedReasons[reason] + ")";
+    return std::string("the linear solver failed (") + KSPConvergedReasons[reason]
+           + pc_failure(_ksp) + ")";
   if (!std::all_of(w.dy.begin(), w.dy.end(), [](double v) { return std::isfinite(v); }))
     return "the bordered system is singular (a constraint does not depend on the field)";
   if (!std::isfinite(dot(w.dx, w.dx)))
