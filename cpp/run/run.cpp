@@ -177,6 +177,17 @@ Runtime::Runtime(const char* program)
 
 Runtime::~Runtime() { PetscFinalize(); }
 
+std::string blas_library()
+{
+  Dl_info info;
+  void* dgemm = dlsym(RTLD_DEFAULT, "dgemm_");
+  if (!dgemm || !dladdr(dgemm, &info) || !info.dli_fname)
+    return "none";
+  std::error_code error;
+  const auto path = std::filesystem::canonical(info.dli_fname, error);
+  return error ? info.dli_fname : path.string();
+}
+
 nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& options)
 {
   check(comm, s);
@@ -186,6 +197,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
   folder.write_text("scene.toml", s.to_toml());
   folder.log("nct: " + s.file().string() + " on " + std::to_string(ranks)
              + " rank(s) -> " + options.out.string());
+  folder.log("blas: " + blas_library());
 
   // Linear solver options: defaults, then the scene's, then the command line's.
   auto petsc = s.options("solver.petsc");
@@ -194,6 +206,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
 
   Model model = make_model(comm, s);
   RunState state(comm, s, folder, model);
+  state.summary["blas"] = blas_library();
   describe(state);
   const auto phases = timeline(s, model);
   if (phases.empty())

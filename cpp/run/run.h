@@ -36,6 +36,11 @@ public:
   Runtime& operator=(const Runtime&) = delete;
 };
 
+/// The shared library that gives this process BLAS (the one MUMPS'
+/// dgemm_ binds to), e.g. OpenBLAS through Debian's libblas.so.3
+/// alternative; "none" if no BLAS is loaded.
+std::string blas_library();
+
 /// Command-line settings of a run.
 struct RunOptions
 {
