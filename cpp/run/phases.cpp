@@ -268,8 +268,16 @@ public:
                             "%.3e mm (max), %.3e mm (rms) against a tolerance of %.3e mm",
                             zp.max_iterations, last.max, last.rms, zp.tolerance));
     s.probes = zero_pressure::carry(mesh, s.x_imaged, s.model.setup.probes);
+    // The last pressurised state is the inflated stress-free geometry: the
+    // inflate phase may start from it (with the kept factorisation).
+    if (s.scene.string("zero_pressure.round_trip") == "reuse")
+    {
+      const auto u = problem.u->x()->array();
+      s.zero_pressure_inflated.assign(u.begin(), u.end());
+    }
+    else
+      newton.reset();
     problem.u->x()->set(0.0);
-    newton.reset();
     if (s.scene.boolean("output.fields"))
     {
       write_geometry(s.folder, mesh, s.x_imaged, "geometry_imaged");
@@ -280,24 +288,54 @@ public:
   }
 };
 
-/// Phase 2: the cavities inflated by a pressure ramp to the IOP.
+/// Phase 2: the cavities inflated by a pressure ramp to the IOP; after
+/// zero pressure, in one step from its last pressurised state.
 class Inflate : public Phase
 {
 public:
   const char* name() const override { return "inflate"; }
+  /// Zero pressure's last inflation of the stress-free geometry is this
+  /// phase's end: one Newton solve from it at the run's tolerance (the
+  /// ramp's states in between are not recomputed). False (state back at
+  /// rest) if there is none or it does not converge.
+  static bool inflate_from_zero_pressure(RunState& s, const std::function<void(double)>& load)
+  {
+    if (s.zero_pressure_inflated.empty())
+      return false;
+    auto& problem = *s.model.problem;
+    auto u = problem.u->x()->mutable_array();
+    std::copy(s.zero_pressure_inflated.begin(), s.zero_pressure_inflated.end(), u.begin());
+    s.zero_pressure_inflated.clear();
+    load(1.0);
+    auto& newton = s.solid_newton();
+    const auto report = newton.solve(s.open->system(), s.settings);
+    s.stepper.newton_iterations += report.iterations;
+    if (report.converged)
+    {
+      s.quasi_static_step("inflate", 1.0, report);
+      return true;
+    }
+    s.folder.log(format("  inflate: Newton from zero pressure's last state failed (%s); "
+                        "ramping from rest",
+                        report.reason.c_str()));
+    problem.u->x()->set(0.0);
+    newton.reset();
+    return false;
+  }
   void run(RunState& s) override
   {
     auto& problem = *s.model.problem;
     const double iop = s.scene.real("inflate.iop") * mmHg;
+    auto load = [&](double f)
+    {
+      s.open_pressures.assign(problem.cavities(), f * iop);
+      problem.set_cavity_pressures(s.open_pressures);
+    };
     s.output();
-    s.stepper.ramp(
-        s.solid_newton(), "inflate", s.scene.integer("inflate.steps"), s.open->system(),
-        [&](double f)
-        {
-          s.open_pressures.assign(problem.cavities(), f * iop);
-          problem.set_cavity_pressures(s.open_pressures);
-        },
-        [&](double f, const auto& report) { s.quasi_static_step("inflate", f, report); });
+    if (!inflate_from_zero_pressure(s, load))
+      s.stepper.ramp(s.solid_newton(), "inflate", s.scene.integer("inflate.steps"),
+                     s.open->system(), load,
+                     [&](double f, const auto& report) { s.quasi_static_step("inflate", f, report); });
     s.t0 += 1;
     if (s.x_imaged.empty())
       return;

@@ -108,6 +108,9 @@ public:
 
   // The reference geometry and what is recorded on it.
   std::vector<double> x_imaged; ///< the mesh as imaged (zero pressure on)
+  /// Zero pressure's last pressurised state (the solid's local u), for
+  /// the inflate phase to start from; empty once used.
+  std::vector<double> zero_pressure_inflated;
   std::vector<std::array<double, 3>> probes;
   /// The solid's output, made on first use (the geometry is final by then).
   SolidOutput& output();

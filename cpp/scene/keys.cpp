@@ -233,6 +233,12 @@ std::vector<Key> declare()
                {"aitken", "none"},
                "aitken = dynamic relaxation of each update (Irons-Tuck); none = the "
                "plain fixed point X -= x(X) - x_imaged"});
+  k.push_back({"zero_pressure.round_trip", K::choice, "\"reuse\"", "", -inf, inf,
+               {"reuse", "ramp"},
+               "the inflate phase after zero pressure: reuse = one step from the fixed "
+               "point's last pressurised state (the inflated stress-free geometry); ramp "
+               "= inflate the stress-free geometry again from rest in inflate.steps, an "
+               "independent round trip at the ramp's cost"});
   only_when(k, zero_pressure_keys, "zero_pressure.enabled=true");
   // phase: inflation
   k.push_back({"inflate.iop", K::real, "15.0", "mmHg", 0, 200, {},
