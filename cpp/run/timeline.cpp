@@ -147,10 +147,16 @@ solver::Newton& RunState::solid_newton()
 {
   // LDL^T (solver.factorisation): the upper triangle and MUMPS' LDL^T of
   // the symmetric matrix it stands for (the follower pressures' skew part
-  // is left to the Newton iteration).
-  const bool ldlt = scene.string("solver.factorisation") == "ldlt";
+  // is left to the Newton iteration). A preconditioner named on the command
+  // line other than a factorisation (--petsc "-pc_type gamg") wins over
+  // it: the AIJ matrix PETSc's multigrids take, with the rigid-body modes.
+  char pc_type[64] = "lu";
+  PetscOptionsGetString(nullptr, nullptr, "-pc_type", pc_type, sizeof(pc_type), nullptr);
+  const bool factorised = std::string(pc_type) == "lu" || std::string(pc_type) == "cholesky";
+  const bool ldlt = factorised && scene.string("solver.factorisation") == "ldlt";
   const bool fresh = _solvers.find("solid") == _solvers.end();
-  auto& n = newton("solid", [&] { return model.problem->create_matrix(ldlt ? "sbaij" : "baij"); });
+  auto& n = newton("solid", [&]
+                   { return model.problem->create_matrix(!factorised ? "aij" : ldlt ? "sbaij" : "baij"); });
   if (fresh && ldlt)
   {
     PC pc;

@@ -73,8 +73,45 @@ constexpr std::array<std::int32_t, 2> cavity_wall_tags = {1, 3};
 constexpr std::int32_t surface_load_tag = 2;
 constexpr std::int32_t support_tag = 4;
 
-/// The coordinate axis normal to every facet of a group (all ranks agree);
-/// throws if the group is not a plane x_i = const.
+/// The rigid-body modes of a displacement space of block size 3 (three
+/// translations, three rotations), orthonormalised: the near-nullspace an
+/// algebraic multigrid preconditioner (PETSc's GAMG) builds its coarse
+/// spaces from (Adams 2002, the elasticity demo of dolfinx). Direct solvers
+/// ignore it.
+MatNullSpace rigid_body_modes(const fem::FunctionSpace& V)
+{
+  const auto map = V.dofmap()->index_map;
+  const int bs = V.dofmap()->index_map_bs();
+  std::vector<la::Vector<double>> basis(6, la::Vector<double>(map, bs));
+  const std::vector<double> x = V.tabulate_dof_coordinates(false);
+  const std::int32_t nodes = map->size_local() + map->num_ghosts();
+  for (std::int32_t i = 0; i < nodes; ++i)
+  {
+    const double* p = &x[3 * i];
+    for (int k = 0; k < 3; ++k)
+      basis[k].mutable_array()[3 * i + k] = 1;
+    const double r[3][3] = {{-p[1], p[0], 0}, {0, -p[2], p[1]}, {p[2], 0, -p[0]}};
+    for (int m = 0; m < 3; ++m)
+      for (int k = 0; k < 3; ++k)
+        basis[3 + m].mutable_array()[3 * i + k] = r[m][k];
+  }
+  la::orthonormalize(std::span<la::Vector<double>>(basis));
+  std::vector<Vec> vecs;
+  for (const auto& b : basis)
+  {
+    Vec wrap = la::petsc::create_vector_wrap(b), copy;
+    VecDuplicate(wrap, &copy);
+    VecCopy(wrap, copy);
+    VecDestroy(&wrap);
+    vecs.push_back(copy);
+  }
+  MatNullSpace modes;
+  MatNullSpaceCreate(map->comm(), PETSC_FALSE, 6, vecs.data(), &modes);
+  for (Vec& v : vecs)
+    VecDestroy(&v);
+  return modes;
+}
+
 } // namespace
 
 Problem::Problem(const meshio::Tagged& m, const Element& element,
@@ -498,6 +535,13 @@ Mat Problem::create_matrix(const std::string& type) const
     MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE);
     MatSetOption(A, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE);
     MatSetOption(A, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE);
+  }
+  const auto& V = *u->function_space();
+  if (V.element()->num_sub_elements() == 3 && V.dofmap()->index_map_bs() == 3)
+  {
+    MatNullSpace modes = rigid_body_modes(V);
+    MatSetNearNullSpace(A, modes);
+    MatNullSpaceDestroy(&modes);
   }
   return A;
 }
