@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "fit/fit.h"
+#include "io/checkpoint.h"
 #include "run/run.h"
 #include "scene/scene.h"
 #include "study/study.h"
@@ -47,7 +48,12 @@ int main(int argc, char* argv[])
   auto* run = app.add_subcommand("run", "run a scene into a run folder");
   run->add_option("scene", scene_file, "scene file (TOML)")->required();
   run->add_option("--set", sets, "override a key: section.key=value");
-  run->add_option("--out", out, "run folder (default: runs/<scene name>)");
+  std::string resume;
+  auto* out_option = run->add_option("--out", out, "run folder (default: runs/<scene name>)");
+  run->add_option("--resume", resume,
+                  "continue the run in this folder from its last checkpoint "
+                  "(checkpoint.steps; the same scene, --set and --petsc, any rank count)")
+      ->excludes(out_option);
   run->add_option("--petsc", petsc, "PETSc options, e.g. \"-ksp_type cg -pc_type gamg\"");
 
   std::string study_file;
@@ -161,10 +167,18 @@ int main(int argc, char* argv[])
                                       / std::filesystem::path(scene_file).stem()
                                 : std::filesystem::path(out);
       options.petsc = parse_petsc(petsc);
+      if (!resume.empty())
+        options.out = resume, options.resume = true;
       nct::run(MPI_COMM_WORLD, scene, options);
     }
   }
   catch (const nct::scene::Error& e)
+  {
+    if (rank == 0)
+      std::cerr << "error: " << e.what() << std::endl;
+    code = 2;
+  }
+  catch (const nct::io::CheckpointError& e)
   {
     if (rank == 0)
       std::cerr << "error: " << e.what() << std::endl;

@@ -125,6 +125,61 @@ void Record::add(double t, const Columns& given, const Columns& solver)
   _last = std::move(now);
 }
 
+namespace
+{
+nlohmann::json to_json(const SectionState& s)
+{
+  return {{"X", s.X}, {"x", s.x}, {"y", s.y}, {"uy", s.uy}, {"vx", s.vx}, {"vy", s.vy}};
+}
+SectionState section_state(const nlohmann::json& j)
+{
+  SectionState s;
+  j.at("X").get_to(s.X), j.at("x").get_to(s.x), j.at("y").get_to(s.y);
+  j.at("uy").get_to(s.uy), j.at("vx").get_to(s.vx), j.at("vy").get_to(s.vy);
+  return s;
+}
+} // namespace
+
+nlohmann::json Record::state() const
+{
+  auto instant = [](const Instant& i) -> nlohmann::json
+  {
+    return {{"t", i.t},
+            {"anterior", to_json(i.anterior)},
+            {"posterior", to_json(i.posterior)},
+            {"state", i.state}};
+  };
+  nlohmann::json j{{"origin", _origin},
+                   {"state_names", _state_names},
+                   {"solver_names", _solver_names},
+                   {"steps", _steps},
+                   {"frames", nlohmann::json::array()}};
+  for (const auto& f : _frames)
+    j["frames"].push_back(instant(f));
+  if (_last)
+    j["last"] = instant(*_last);
+  return j;
+}
+
+void Record::restore(const nlohmann::json& j)
+{
+  auto instant = [](const nlohmann::json& i)
+  {
+    return Instant{i.at("t"), section_state(i.at("anterior")), section_state(i.at("posterior")),
+                   i.at("state").get<std::vector<double>>()};
+  };
+  j.at("origin").get_to(_origin);
+  j.at("state_names").get_to(_state_names);
+  j.at("solver_names").get_to(_solver_names);
+  j.at("steps").get_to(_steps);
+  _frames.clear();
+  for (const auto& f : j.at("frames"))
+    _frames.push_back(instant(f));
+  _last.reset();
+  if (j.contains("last"))
+    _last = instant(j.at("last"));
+}
+
 std::string Record::steps_csv() const
 {
   std::ostringstream out;

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "biomarkers/biomarkers.h"
 #include "biomarkers/section.h"
 
@@ -63,6 +65,11 @@ public:
   /// The largest value of a known or state column over the frames.
   double max(const std::string& column) const;
   std::size_t frames() const { return _frames.size(); }
+
+  /// What has been recorded, for a checkpoint (the sections and the known
+  /// columns are the constructor's); restore() takes it back.
+  nlohmann::json state() const;
+  void restore(const nlohmann::json& state);
 
 private:
   struct Instant

@@ -35,6 +35,11 @@ public:
   /// Close the cavities at the problem's current state: the targets are
   /// the current volumes, the pressures start at `pressures` [MPa].
   Closed(solid::Problem& problem, std::vector<double> pressures);
+  /// Closed at volumes held before, `targets` [mm^3] (a checkpoint's).
+  Closed(solid::Problem& problem, std::vector<double> pressures, std::vector<double> targets)
+      : _problem(problem), _pressures(std::move(pressures)), _targets(std::move(targets))
+  {
+  }
   /// The solid with its closed cavities: x = u, y = the pressures.
   solver::System system();
 

@@ -18,7 +18,7 @@ void write_atomic(const std::filesystem::path& file, const std::string& text)
   std::filesystem::rename(tmp, file);
 }
 
-RunFolder::RunFolder(MPI_Comm comm, std::filesystem::path dir)
+RunFolder::RunFolder(MPI_Comm comm, std::filesystem::path dir, bool append)
     : _comm(comm), _dir(std::move(dir))
 {
   int rank = 0;
@@ -28,7 +28,7 @@ RunFolder::RunFolder(MPI_Comm comm, std::filesystem::path dir)
   {
     std::error_code ec;
     std::filesystem::create_directories(_dir, ec);
-    _log.open(_dir / "run.log");
+    _log.open(_dir / "run.log", append ? std::ios::app : std::ios::out);
     ok = !ec && _log.good();
   }
   MPI_Bcast(&ok, 1, MPI_INT, 0, comm);

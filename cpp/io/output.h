@@ -23,7 +23,8 @@ void write_atomic(const std::filesystem::path& file, const std::string& text);
 class RunFolder
 {
 public:
-  RunFolder(MPI_Comm comm, std::filesystem::path dir);
+  /// `append`: continue its run.log (a resumed run) instead of starting it anew.
+  RunFolder(MPI_Comm comm, std::filesystem::path dir, bool append = false);
   const std::filesystem::path& dir() const { return _dir; }
   /// Write `name` in the folder atomically.
   void write_text(const std::string& name, const std::string& text) const;

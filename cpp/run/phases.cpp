@@ -404,8 +404,8 @@ public:
     const double rest = s.scene.real("rest.duration");
     s.start_dynamics();
     s.set_surface_load(-rest);
-    const double apex_rest = s.probes.empty() ? 0.0 : s.output().probe_displacement()[0][1];
-    double drift = 0;
+    if (!_resumed)
+      _apex_rest = s.probes.empty() ? 0.0 : s.output().probe_displacement()[0][1];
     nlohmann::json keys{{"phase", "rest"}};
     if (_columns.empty())
       keys["apex_air_pressure_mmHg"] = 0.0;
@@ -413,16 +413,23 @@ public:
                     solid_dynamics(s), s.solid_system(), [](double) {},
                     [&](double t, double dt, const auto& report)
                     {
-                      drift = std::max(drift, std::abs(s.dynamic_step(keys, t, dt, report,
-                                                                      _columns)
-                                                       - apex_rest));
+                      _drift = std::max(_drift, std::abs(s.dynamic_step(keys, t, dt, report,
+                                                                        _columns)
+                                                         - _apex_rest));
                     });
     if (!s.probes.empty())
-      s.summary["rest_drift_mm"] = drift;
+      s.summary["rest_drift_mm"] = _drift;
+  }
+  nlohmann::json save() const override { return {_apex_rest, _drift}; }
+  void restore(const nlohmann::json& j) override
+  {
+    _apex_rest = j[0], _drift = j[1], _resumed = true;
   }
 
 private:
   biomarkers::Columns _columns;
+  double _apex_rest = 0, _drift = 0; ///< the apex at rest, its largest drift [mm]
+  bool _resumed = false;
 };
 
 /// Phase 6, prescribed (puff.load = "gaussian", "pulse" or "table"): the air as a

@@ -7,6 +7,7 @@
 
 #include <dolfinx/common/log.h>
 
+#include "io/checkpoint.h"
 #include "io/format.h"
 #include "run/model.h"
 #include "run/timeline.h"
@@ -104,21 +105,20 @@ nlohmann::json profile(const solver::Timings& t)
           {"border_s", t.border}};
 }
 
-/// Run a phase and add its profile (wall time, where it went) to the summary's.
-void run_phase(Phase& phase, RunState& s)
+/// Run the phase s.phase (started by s.start_phase, or resumed) and add its
+/// profile (wall time, where it went) to the summary's.
+void run_phase(RunState& s)
 {
-  const double wall = MPI_Wtime(), output = s.t_output();
-  const solver::Timings before = s.timings();
-  const int newton = s.stepper.newton_iterations, cuts = s.stepper.cuts;
-  const std::size_t steps = s.summary["steps"].size();
+  Phase& phase = *s.phase;
   phase.run(s);
-  nlohmann::json p = profile(s.timings() - before);
+  const auto& start = s.phase_start;
+  nlohmann::json p = profile(s.timings() - start.timings);
   p["phase"] = phase.name();
-  p["wall_s"] = MPI_Wtime() - wall;
-  p["output_s"] = s.t_output() - output;
-  p["newton_iterations"] = s.stepper.newton_iterations - newton;
-  p["step_cuts"] = s.stepper.cuts - cuts;
-  p["steps"] = s.summary["steps"].size() - steps;
+  p["wall_s"] = MPI_Wtime() - start.wall;
+  p["output_s"] = s.t_output() - start.output;
+  p["newton_iterations"] = s.stepper.newton_iterations - start.newton_iterations;
+  p["step_cuts"] = s.stepper.cuts - start.cuts;
+  p["steps"] = s.summary["steps"].size() - start.steps;
   s.summary["profile"].push_back(p);
 }
 
@@ -193,7 +193,16 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
   check(comm, s);
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
-  io::RunFolder folder(comm, options.out);
+  // A resumed run's checkpoint is read (and checked) before anything else.
+  std::optional<io::CheckpointReader> checkpoint;
+  if (options.resume)
+  {
+    if (s.integer("checkpoint.steps") == 0)
+      throw io::CheckpointError(s.file().string() + ": --resume needs the scene the run "
+                                "was started with, whose checkpoint.steps is > 0 (it is 0)");
+    checkpoint.emplace(comm, options.out / "checkpoint");
+  }
+  io::RunFolder folder(comm, options.out, options.resume);
   folder.write_text("scene.toml", s.to_toml());
   folder.log("nct: " + s.file().string() + " on " + std::to_string(ranks)
              + " rank(s) -> " + options.out.string());
@@ -205,7 +214,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
   solver::set_petsc_options(petsc, newton_settings(s).jacobian);
 
   Model model = make_model(comm, s);
-  RunState state(comm, s, folder, model);
+  RunState state(comm, s, folder, model, petsc);
   state.summary["blas"] = blas_library();
   describe(state);
   const auto phases = timeline(s, model);
@@ -220,11 +229,26 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
     const int quasi_static = (model.problem->cavities() > 0) + (state.press_peak != 0);
     state.t0 = -s.real("rest.duration") - quasi_static;
   }
+  state.summary["profile"] = nlohmann::json::array();
+  std::size_t first = 0;
+  if (checkpoint)
+  {
+    first = state.resume(*checkpoint);
+    if (first >= phases.size())
+      throw io::CheckpointError("the checkpoint " + checkpoint->file().string()
+                                + " names a phase this scene does not have");
+    phases[first]->restore(checkpoint->document().at("phase_state"));
+    state.phase = phases[first].get();
+    state.phase_index = first;
+  }
   try
   {
-    state.summary["profile"] = nlohmann::json::array();
-    for (const auto& phase : phases)
-      run_phase(*phase, state);
+    for (std::size_t i = first; i < phases.size(); ++i)
+    {
+      if (i > first || !checkpoint)
+        state.start_phase(*phases[i], i);
+      run_phase(state);
+    }
   }
   catch (const std::exception& e) // Diverged, or a biomarker that cannot be taken
   {

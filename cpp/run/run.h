@@ -46,6 +46,8 @@ struct RunOptions
 {
   std::filesystem::path out;  ///< run folder
   std::vector<std::pair<std::string, std::string>> petsc; ///< overrides the scene's
+  /// Continue the run in `out` from its last checkpoint (out/checkpoint).
+  bool resume = false;
 };
 
 /// Run a scene into a run folder and return its summary (also written to

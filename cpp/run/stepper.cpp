@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
+#include <cstdlib>
 
 #include "io/format.h"
 #include "run/run.h"
@@ -121,7 +123,20 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
   // through the last two states (which only it needs to keep).
   const bool extrapolate = _predictor == Predictor::extrapolate;
   const bool secant = extrapolate && !problem.predict;
-  int successes = 0;
+  if (secant && resume)
+    throw std::runtime_error("checkpoint: a march with the secant predictor cannot resume yet");
+  int successes = 0, steps = 0, rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (resume)
+  {
+    t = resume->t, dt = resume->dt, successes = resume->successes, steps = resume->steps;
+    resume.reset();
+  }
+  static const int kill_at = [] {
+    const char* n = std::getenv("NCT_TEST_KILL_AT_STEP"); // tests/checkpoint.py
+    return n ? std::atoi(n) : 0;
+  }();
+  static int taken = 0;
   while (t < end - 1e-9 * nominal)
   {
     const double step = std::min(dt, end - t);
@@ -165,6 +180,16 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
     if (++successes >= 2 && dt < nominal)
       dt = std::min(2 * dt, nominal), successes = 0;
     done(t, step, report);
+    ++steps;
+    if (boundaries.every > 0 && steps % boundaries.every == 0)
+    {
+      newton.reset();
+      if (boundaries.at)
+        boundaries.at({steps, t, dt, successes});
+    }
+    // A test's interruption at a chosen step (a real kill, as a pre-empted job's).
+    if (++taken == kill_at && rank == 0)
+      std::raise(SIGKILL);
   }
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "io/output.h"
@@ -61,6 +62,28 @@ public:
              const Dynamics& problem, const solver::System& system,
              const std::function<void(double)>& load,
              const std::function<void(double, double, const solver::NewtonReport&)>& done);
+
+  /// Where a march is after a converged step: steps taken, time [ms],
+  /// the next step's length [ms] and the successes in a row since a cut.
+  struct MarchState
+  {
+    int steps = 0;
+    double t = 0, dt = 0;
+    int successes = 0;
+  };
+  /// Every `every`-th step of a march is a checkpoint boundary (0: none):
+  /// the Newton solver drops its kept factorisation there, so that a run
+  /// resumed at a boundary continues exactly as the uninterrupted one, and
+  /// `at` sees the march's state (to write a checkpoint).
+  struct Boundaries
+  {
+    int every = 0;
+    std::function<void(const MarchState&)> at;
+  };
+  Boundaries boundaries;
+  /// A march resumed from a checkpoint: the next march() starts from this
+  /// state (its t0 and first step ignored) and clears it.
+  std::optional<MarchState> resume;
 
   int newton_iterations = 0;
   int cuts = 0;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <set>
+#include <tuple>
 
 #include "io/format.h"
 
@@ -105,10 +106,12 @@ Stepper make_stepper(const scene::Scene& s, const solver::NewtonSettings& settin
                  folder);
 }
 
-RunState::RunState(MPI_Comm comm, const scene::Scene& s, io::RunFolder& folder, Model& model)
+RunState::RunState(MPI_Comm comm, const scene::Scene& s, io::RunFolder& folder, Model& model,
+                   std::vector<std::pair<std::string, std::string>> petsc)
     : comm(comm), scene(s), folder(folder), model(model),
       settings(newton_settings(s)),
-      stepper(make_stepper(s, settings, folder)), wall_start(MPI_Wtime())
+      stepper(make_stepper(s, settings, folder)), wall_start(MPI_Wtime()),
+      _petsc(std::move(petsc)), _last_checkpoint(wall_start)
 {
   summary["scene"] = s.file().string();
   int ranks = 1;
@@ -117,6 +120,11 @@ RunState::RunState(MPI_Comm comm, const scene::Scene& s, io::RunFolder& folder, 
   summary["steps"] = nlohmann::json::array();
   if (!model.problem)
     return;
+  if (const int every = s.integer("checkpoint.steps"); every > 0)
+  {
+    _mesh_as_built = io::mesh_fingerprint(*model.setup.mesh.mesh);
+    stepper.boundaries = {every, [this](const Stepper::MarchState& m) { checkpoint(m); }};
+  }
   open.emplace(*model.problem);
   open_pressures.assign(model.problem->cavities(), 0.0);
   press_peak = s.real("press.pressure") * mmHg;
@@ -271,6 +279,11 @@ void RunState::start_dynamics()
       {scene.real("dynamics.dt"), scene.real("dynamics.rho_inf"), scene.real("dynamics.damping")});
   solid_newton().reset();
   output();
+  open_frames();
+}
+
+void RunState::open_frames()
+{
   // The frames of a puff on the eye; a prescribed apex pressure is known
   // at every instant, a computed one is a state column.
   const std::string load = scene.string("puff.load");
@@ -306,6 +319,180 @@ void RunState::start_dynamics()
   frames.emplace(biomarkers::Section(*model.problem, anterior, "anterior cornea"),
                  biomarkers::Section(*model.problem, posterior, "posterior cornea"),
                  scene.real("puff.frame_rate"), whole_eye_x, known);
+}
+
+namespace
+{
+
+nlohmann::json to_json(const solver::Timings& t)
+{
+  return {t.residual, t.residuals, t.line_search_residuals, t.jacobian, t.jacobians,
+          t.border_assemble, t.factorise, t.factorisations, t.solve, t.linear_solves,
+          t.krylov_iterations, t.border};
+}
+
+solver::Timings timings_of(const nlohmann::json& j)
+{
+  solver::Timings t;
+  std::tie(t.residual, t.residuals, t.line_search_residuals, t.jacobian, t.jacobians,
+           t.border_assemble, t.factorise, t.factorisations, t.solve, t.linear_solves,
+           t.krylov_iterations, t.border)
+      = std::tuple{j[0].get<double>(), j[1].get<int>(),    j[2].get<int>(),
+                   j[3].get<double>(), j[4].get<int>(),    j[5].get<double>(),
+                   j[6].get<double>(), j[7].get<int>(),    j[8].get<double>(),
+                   j[9].get<int>(),    j[10].get<int>(),   j[11].get<double>()};
+  return t;
+}
+
+/// The layout of a checkpoint's document; another cannot be read.
+constexpr int checkpoint_format = 1;
+
+} // namespace
+
+void RunState::start_phase(Phase& p, std::size_t index)
+{
+  phase = &p;
+  phase_index = index;
+  phase_start = {timings(), stepper.newton_iterations, stepper.cuts, summary["steps"].size(),
+                 t_output(), MPI_Wtime()};
+}
+
+nlohmann::json RunState::identity() const
+{
+  nlohmann::json petsc = nlohmann::json::array();
+  for (const auto& [name, value] : _petsc)
+    petsc.push_back({name, value});
+  return {{"format", checkpoint_format},
+          {"scene", io::format("%016llx", (unsigned long long)[&] {
+             const std::string toml = scene.to_toml({"checkpoint.minutes", "checkpoint.keep"});
+             return io::fnv1a(toml.data(), toml.size());
+           }())},
+          {"petsc", petsc},
+          {"forms", model.problem->forms_signature()},
+          {"mesh", _mesh_as_built}};
+}
+
+void RunState::checkpoint(const Stepper::MarchState& march)
+{
+  // Due on every rank or on none: rank 0's clock decides.
+  const double minutes = scene.real("checkpoint.minutes");
+  int due = MPI_Wtime() - _last_checkpoint >= 60 * minutes;
+  MPI_Bcast(&due, 1, MPI_INT, 0, comm);
+  if (!due)
+    return;
+  const double start = MPI_Wtime();
+  nlohmann::json doc = identity();
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  nlohmann::json solvers;
+  for (const auto& [name, t] : solver_timings())
+    solvers[name] = to_json(t);
+  doc.update({{"ranks", ranks},
+              {"phase", phase_index},
+              {"phase_name", phase->name()},
+              {"phase_state", phase->save()},
+              {"phase_start",
+               {to_json(phase_start.timings), phase_start.newton_iterations, phase_start.cuts,
+                phase_start.steps, phase_start.output, MPI_Wtime() - phase_start.wall}},
+              {"march", {march.steps, march.t, march.dt, march.successes}},
+              {"summary", summary},
+              {"frames", frames ? frames->state() : nlohmann::json()},
+              {"newton_iterations", stepper.newton_iterations},
+              {"cuts", stepper.cuts},
+              {"solvers", solvers},
+              {"t0", t0},
+              {"open_pressures", open_pressures},
+              {"surface_pressure", surface_pressure},
+              {"probes", probes},
+              {"dynamic", _dynamic},
+              {"t_output", t_output()},
+              {"wall_s", MPI_Wtime() - wall_start}});
+  if (closed)
+    doc["closed"] = {{"pressures", closed->pressures()}, {"targets", closed->targets()}};
+  io::CheckpointWriter writer(comm);
+  model.problem->save(writer);
+  const std::size_t step = summary["steps"].size();
+  const auto bytes = writer.write(folder.dir() / "checkpoint", format("ckpt-%06zu.h5", step),
+                                  doc, scene.integer("checkpoint.keep"));
+  const double wall = MPI_Wtime() - start;
+  _last_checkpoint = MPI_Wtime();
+  auto& total = summary["checkpoints"];
+  if (total.is_null())
+    total = nlohmann::json::object();
+  total["written"] = total.value("written", 0) + 1;
+  total["wall_s"] = total.value("wall_s", 0.0) + wall;
+  total["last_bytes"] = bytes;
+  folder.log(format("checkpoint: step %zu, %s t = %.4f ms, %.2f MB in %.3f s", step,
+                    phase->name(), march.t, bytes / 1e6, wall));
+}
+
+std::size_t RunState::resume(const io::CheckpointReader& checkpoint)
+{
+  const nlohmann::json& doc = checkpoint.document();
+  const nlohmann::json now = identity();
+  const char* what[] = {"format", "scene", "petsc", "forms", "mesh"};
+  const char* why[] = {"another version of nct's checkpoint layout",
+                       "another scene (or other --set values)",
+                       "other --petsc or solver.petsc options",
+                       "another build of the forms (FFCx signatures differ)",
+                       "another mesh (the same scene meshed differently: another gmsh?)"};
+  for (std::size_t i = 0; i < std::size(what); ++i)
+    if (doc.value(what[i], nlohmann::json()) != now[what[i]])
+      throw io::CheckpointError("the checkpoint " + checkpoint.file().string()
+                                + " was written by " + why[i] + "; refusing to resume");
+  folder.log(format("resume: %s, written on %d rank(s) at step %zu (%s t = %.4f ms)",
+                    checkpoint.file().string().c_str(), doc.at("ranks").get<int>(),
+                    doc.at("summary").at("steps").size(),
+                    doc.at("phase_name").get<std::string>().c_str(),
+                    doc.at("march")[1].get<double>()));
+  const int ranks = summary["ranks"];
+  summary = doc.at("summary");
+  summary["ranks"] = ranks;
+  summary["resumed"] = {{"file", checkpoint.file().string()},
+                        {"ranks_before", doc.at("ranks")},
+                        {"steps_before", summary["steps"].size()}};
+  wall_start = MPI_Wtime() - doc.at("wall_s").get<double>();
+  stepper.newton_iterations = doc.at("newton_iterations");
+  stepper.cuts = doc.at("cuts");
+  for (const auto& [name, t] : doc.at("solvers").items())
+  {
+    if (name != "solid")
+      throw io::CheckpointError("the checkpoint " + checkpoint.file().string()
+                                + " holds a solver this run cannot resume: " + name);
+    solid_newton().timings = timings_of(t);
+  }
+  t0 = doc.at("t0");
+  doc.at("open_pressures").get_to(open_pressures);
+  surface_pressure = doc.at("surface_pressure");
+  doc.at("probes").get_to(probes);
+  x_imaged.clear();
+  zero_pressure_inflated.clear();
+
+  auto& problem = *model.problem;
+  _dynamic = doc.at("dynamic");
+  std::optional<solid::TimeStep> step;
+  if (_dynamic)
+    step = solid::TimeStep{scene.real("dynamics.dt"), scene.real("dynamics.rho_inf"),
+                           scene.real("dynamics.damping")};
+  problem.restore(checkpoint, step);
+  if (doc.contains("closed"))
+    closed.emplace(problem, doc["closed"].at("pressures").get<std::vector<double>>(),
+                   doc["closed"].at("targets").get<std::vector<double>>());
+  else if (problem.cavities() > 0)
+    problem.set_cavity_pressures(open_pressures);
+  _output.emplace(scene, folder, model, summary["steps"], probes, t0);
+  _output->t_output = doc.at("t_output");
+  if (_dynamic)
+  {
+    open_frames();
+    if (frames)
+      frames->restore(doc.at("frames"));
+  }
+  const auto& m = doc.at("march");
+  stepper.resume = Stepper::MarchState{m[0], m[1], m[2], m[3]};
+  const auto& p = doc.at("phase_start");
+  phase_start = {timings_of(p[0]), p[1], p[2], p[3], p[4], MPI_Wtime() - p[5].get<double>()};
+  return doc.at("phase");
 }
 
 void RunState::write_tables() const

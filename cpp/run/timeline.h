@@ -16,6 +16,7 @@
 
 #include "biomarkers/record.h"
 #include "cavity/cavity.h"
+#include "io/checkpoint.h"
 #include "io/output.h"
 #include "puff/load.h"
 #include "run/model.h"
@@ -66,10 +67,14 @@ private:
 /// What the phases of a run share: the scene, the model, the Newton
 /// solvers (one per Jacobian), the solid's loads and cavities, the run
 /// folder, the summary and what has been recorded.
+class Phase;
+
 class RunState
 {
 public:
-  RunState(MPI_Comm comm, const scene::Scene& scene, io::RunFolder& folder, Model& model);
+  /// `petsc`: the PETSc options in force (a checkpoint must match them).
+  RunState(MPI_Comm comm, const scene::Scene& scene, io::RunFolder& folder, Model& model,
+           std::vector<std::pair<std::string, std::string>> petsc = {});
 
   MPI_Comm comm;
   const scene::Scene& scene;
@@ -78,7 +83,7 @@ public:
   nlohmann::json summary;
   const solver::NewtonSettings settings;
   Stepper stepper;
-  const double wall_start;
+  double wall_start; ///< MPI_Wtime() at the start; resumed: less the time before
 
   /// The Newton solver of a named Jacobian, its matrix made by `create`
   /// on first use; `prefix`: its PETSc options prefix.
@@ -113,6 +118,7 @@ public:
   std::vector<double> zero_pressure_inflated;
   std::vector<std::array<double, 3>> probes;
   /// The solid's output, made on first use (the geometry is final by then).
+  /// Resumed, the summary holds what it recorded before.
   SolidOutput& output();
   /// A quasi-static step's record.
   void quasi_static_step(const char* phase, double f, const solver::NewtonReport& report);
@@ -135,7 +141,39 @@ public:
   void write_tables() const;
   double t_output() const { return _output ? _output->t_output : 0.0; }
 
+  // The timeline's progress, and checkpoints (checkpoint.*).
+  /// The phase running and its place in the timeline.
+  Phase* phase = nullptr;
+  std::size_t phase_index = 0;
+  /// Where the running phase started: the counts and timings its profile
+  /// is taken against.
+  struct PhaseStart
+  {
+    solver::Timings timings;
+    int newton_iterations = 0, cuts = 0;
+    std::size_t steps = 0;
+    double output = 0, wall = 0;
+  } phase_start;
+  /// The phase starts now.
+  void start_phase(Phase& p, std::size_t index);
+  /// At a march's checkpoint boundary: the whole run's state into
+  /// <out>/checkpoint/ckpt-<step>.h5 if a write is due (checkpoint.minutes).
+  void checkpoint(const Stepper::MarchState& march);
+  /// Continue from a checkpoint (checked against this scene, build and
+  /// mesh): its state restored, the stepper set to resume its march.
+  /// Returns the index of the phase to continue.
+  std::size_t resume(const io::CheckpointReader& checkpoint);
+
 private:
+  /// The frames of a puff on the eye (from start_dynamics).
+  void open_frames();
+  /// What a checkpoint must match: the format, the scene (but where and
+  /// how often checkpoints are written), the PETSc options, the forms, the
+  /// mesh as built.
+  nlohmann::json identity() const;
+  std::vector<std::pair<std::string, std::string>> _petsc;
+  std::string _mesh_as_built;
+  double _last_checkpoint = 0; ///< MPI_Wtime() of the last write
   struct Solver
   {
     std::unique_ptr<dolfinx::la::petsc::Matrix> A;
@@ -154,6 +192,10 @@ public:
   virtual void run(RunState& state) = 0;
   /// Its name in the log and the profile.
   virtual const char* name() const = 0;
+  /// Its own state at a checkpoint boundary of its march; restore() takes
+  /// it back before a resumed run().
+  virtual nlohmann::json save() const { return nullptr; }
+  virtual void restore(const nlohmann::json&) {}
 };
 
 /// The phases a scene asks for, in order: zero pressure, inflate, close,

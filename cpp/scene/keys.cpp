@@ -505,6 +505,18 @@ std::vector<Key> declare()
   k.push_back({"solver.petsc", K::options, "{}", "", -inf, inf, {},
                "PETSc options for the linear solver (default: MUMPS LU), e.g. "
                "ksp_type = \"cg\""});
+  // checkpoint: the whole state every few steps of the dynamics, to resume from
+  k.push_back({"checkpoint.steps", K::integer, "0", "", 0, 100000, {},
+               "every this many time steps of a march (rest, puff) is a checkpoint "
+               "boundary: the Newton solver drops its kept factorisation there, and the "
+               "whole state may be written to <out>/checkpoint for nct run --resume; 0 = off"});
+  k.push_back({"checkpoint.minutes", K::real, "0", "min", 0, 1e5, {},
+               "write at a boundary only once this much wall time has passed since the "
+               "last write (0 = at every boundary); the results do not depend on it "
+               "(only with checkpoint.steps > 0)"});
+  k.push_back({"checkpoint.keep", K::integer, "2", "", 1, 1000, {},
+               "checkpoint files kept (the newest); older ones are deleted "
+               "(only with checkpoint.steps > 0)"});
   // output
   k.push_back({"output.fields", K::boolean, "true", "", -inf, inf, {},
                "write XDMF fields (displacement, fibres, von Mises stress)"});

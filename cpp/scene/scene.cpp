@@ -619,6 +619,20 @@ std::string Scene::to_toml() const
   return s.str();
 }
 
+std::string Scene::to_toml(const std::vector<std::string>& without) const
+{
+  toml::table t = _resolved;
+  for (const auto& key : without)
+  {
+    const auto dot = key.find('.');
+    if (auto* section = t[key.substr(0, dot)].as_table())
+      section->erase(key.substr(dot + 1));
+  }
+  std::ostringstream s;
+  s << t << "\n";
+  return s.str();
+}
+
 std::string describe(bool markdown)
 {
   std::ostringstream s;

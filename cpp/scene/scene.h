@@ -89,6 +89,8 @@ public:
 
   /// The resolved scene (every key with its value) as TOML.
   std::string to_toml() const;
+  /// The resolved keys but `without` these ("section.key"), as TOML.
+  std::string to_toml(const std::vector<std::string>& without) const;
 
 private:
   Scene(std::filesystem::path file, toml::table resolved)

@@ -122,6 +122,8 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
     : _cells(m.cells), _parts(parts), _materials(materials), _fibres(fibres)
 {
   const Kernels k = kernels(element);
+  for (const ufcx_form* f : {k.R, k.J, k.R_dynamic, k.J_dynamic})
+    _forms_signature += std::string(f->signature) + " ";
   auto V = std::make_shared<fem::FunctionSpace>(
       fem::create_functionspace(k.space, "u", m.mesh));
   auto Q0 = std::make_shared<fem::FunctionSpace>(
@@ -378,19 +380,67 @@ void Problem::start_dynamics(const TimeStep& step)
     for (std::size_t i = 0; i < owned; ++i)
       if (held[i] && !still_held[i])
         preload[i] = b.array()[i];
-    // Springs and dashpots per unit area of the whole model's cut.
-    const double area = whole_model({_support_area})[0];
-    _support_stiffness->value = {_support->stiffness / area};
-    _support_damping->value = {_support->damping / area};
     std::copy(u->x()->array().begin(), u->x()->array().end(),
               _u_support->x()->mutable_array().begin());
-    _bcs = _symmetry_bcs;
+    release_support();
   }
   set_time_step(step);
   std::copy(u->x()->array().begin(), u->x()->array().end(),
             u_old->x()->mutable_array().begin());
   v_old->x()->set(0.0);
   a_old->x()->set(0.0);
+  _dynamic = true;
+}
+
+void Problem::release_support()
+{
+  // Springs and dashpots per unit area of the whole model's cut.
+  const double area = whole_model({_support_area})[0];
+  _support_stiffness->value = {_support->stiffness / area};
+  _support_damping->value = {_support->damping / area};
+  _bcs = _symmetry_bcs;
+}
+
+void Problem::save(io::CheckpointWriter& checkpoint) const
+{
+  checkpoint.add_geometry("solid/geometry", *u->function_space()->mesh());
+  checkpoint.add("solid/u", *u);
+  if (!_dynamic)
+    return;
+  checkpoint.add("solid/u_old", *u_old);
+  checkpoint.add("solid/v_old", *v_old);
+  checkpoint.add("solid/a_old", *a_old);
+  if (_support)
+  {
+    checkpoint.add("solid/u_support", *_u_support);
+    const auto& V = *u->function_space();
+    checkpoint.add("solid/preload", _preload->array(), 3, io::dof_keys(V),
+                   V.dofmap()->index_map->size_local());
+  }
+}
+
+void Problem::restore(const io::CheckpointReader& checkpoint, const std::optional<TimeStep>& step)
+{
+  auto mesh = std::const_pointer_cast<mesh::Mesh>(u->function_space()->mesh());
+  checkpoint.read_geometry("solid/geometry", *mesh);
+  update_reference();
+  checkpoint.read("solid/u", *u);
+  if (!step)
+    return;
+  checkpoint.read("solid/u_old", *u_old);
+  checkpoint.read("solid/v_old", *v_old);
+  checkpoint.read("solid/a_old", *a_old);
+  if (_support)
+  {
+    checkpoint.read("solid/u_support", *_u_support);
+    _preload.emplace(u->x()->map(), u->x()->bs());
+    auto preload = _preload->mutable_array();
+    checkpoint.read("solid/preload", preload, 3, io::dof_keys(*u->function_space()));
+    const std::size_t owned = _preload->map()->size_local() * 3;
+    std::fill(preload.begin() + owned, preload.end(), 0.0); // owned entries only
+    release_support();
+  }
+  set_time_step(*step);
   _dynamic = true;
 }
 

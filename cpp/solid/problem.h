@@ -16,6 +16,7 @@
 #include <dolfinx/la/Vector.h>
 #include <dolfinx/la/petsc.h>
 
+#include "io/checkpoint.h"
 #include "meshio/model.h"
 #include "solid/material.h"
 
@@ -108,6 +109,13 @@ public:
   /// support, its springs and dashpots replace the clamp, which leaves
   /// them its reaction as a dead load: the rest stays at rest.
   void start_dynamics(const TimeStep& step);
+  /// The state a checkpoint holds under "solid/": the reference geometry
+  /// (zero pressure moves it), u, and in dynamics the last step's u, v, a
+  /// and the support's state. Collective.
+  void save(io::CheckpointWriter& checkpoint) const;
+  /// Read that state back; in dynamics (`step` given) switch to them as
+  /// start_dynamics() does, but with the checkpoint's motion.
+  void restore(const io::CheckpointReader& checkpoint, const std::optional<TimeStep>& step);
   /// Change the time step (dynamics only).
   void set_time_step(const TimeStep& step);
   /// After a converged step: a and v from the Newmark updates, then the
@@ -177,8 +185,13 @@ public:
   CellFields fields;                                          ///< materials and fibres
   std::int64_t dofs() const;
   int symmetry_factor() const { return _symmetry_factor; }
+  /// The FFCx signatures of the compiled residuals and Jacobians in use:
+  /// another build of the forms has others.
+  const std::string& forms_signature() const { return _forms_signature; }
 
 private:
+  /// The support's springs and dashpots in place of the clamp (dynamics).
+  void release_support();
   /// Scalar forms summed over the ranks, times the symmetry factor.
   std::vector<double>
   whole_model(const std::vector<std::shared_ptr<dolfinx::fem::Form<double>>>& forms) const;
@@ -211,6 +224,7 @@ private:
   std::shared_ptr<dolfinx::fem::Form<double>> _support_area;
   std::shared_ptr<dolfinx::mesh::MeshTags<std::int32_t>> _law_tags, _load_tags;
   int _symmetry_factor = 1;
+  std::string _forms_signature;
   std::vector<double> _profile_points; ///< reference points of surface_profile's dofs
   // What lays the fibres: kept for update_reference().
   std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> _cells;

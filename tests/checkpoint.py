@@ -1,0 +1,155 @@
+"""Checkpoint and restart (issue 21): a run killed (SIGKILL) at a random step
+and resumed from its last checkpoint, on the same or another rank count,
+ends as the uninterrupted run does; a kill while a checkpoint is being
+written leaves the previous one usable; foreign and damaged checkpoints are
+refused.
+
+usage: checkpoint.py NCT COMPARE_SUMMARIES OUT RANKS_FIRST RANKS_RESUME SCENE
+                     [KEY=VALUE...]
+
+On 1 rank resumed on 1: every number of summary.json and every CSV equal,
+bitwise (checkpoint boundaries drop the kept factorisation in both runs,
+and a serial run is reproducible). Otherwise to 1e-8 relative or 1e-9
+absolute, the tolerance the 1- and 2-rank runs agree to (with
+solver.atol = 1e-11 N): on 2 ranks even two uninterrupted runs differ at
+round-off (MUMPS' parallel factorisation sums in the order messages
+arrive), which the Newton tolerance turns into about 1e-10.
+NCT_TEST_SEED fixes the random step."""
+import csv
+import os
+import random
+import shutil
+import subprocess
+import sys
+
+import h5py
+
+nct, compare, out, ranks_first, ranks_resume, scene = sys.argv[1:7]
+sets = [a for kv in sys.argv[7:] for a in ("--set", kv)]
+ranks_first, ranks_resume = int(ranks_first), int(ranks_resume)
+same = ranks_first == ranks_resume
+exact = same and ranks_first == 1
+shutil.rmtree(out, ignore_errors=True)
+os.makedirs(out)
+seed = int(os.environ.get("NCT_TEST_SEED", random.randrange(1 << 30)))
+rng = random.Random(seed)
+print(f"seed {seed} (NCT_TEST_SEED reproduces this run)")
+
+
+def nct_run(ranks, folder, *extra, env=None, expect=0, resume=False):
+    cmd = ["mpirun", "-n", str(ranks), "--allow-run-as-root", "--oversubscribe", nct, "run",
+           scene, *sets, *extra, "--resume" if resume else "--out", folder]
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                       env={**os.environ, **(env or {})})
+    ok = p.returncode == expect if expect is not None else p.returncode != 0
+    if not ok:
+        print(p.stdout)
+        sys.exit(f"FAIL: {' '.join(cmd)} exited {p.returncode}")
+    return p.stdout
+
+
+def error_line(text):
+    return next(line for line in text.splitlines() if line.startswith("error"))
+
+
+def rows(path):
+    with open(path) as f:
+        return list(csv.reader(f))
+
+
+def agree(a, b):
+    """Every file of run a's equal to run b's (numbers to the tolerance)."""
+    tol = ["0", "0"] if exact else ["1e-8", "1e-9"]
+    p = subprocess.run([compare, f"{a}/summary.json", f"{b}/summary.json", *tol],
+                       stdout=subprocess.PIPE, text=True)
+    print(p.stdout.strip())
+    assert p.returncode == 0, f"summaries differ: {a} vs {b}"
+    import json
+    sa, sb = (json.load(open(f"{x}/summary.json")) for x in (a, b))
+    for key in ("newton_iterations", "factorisations", "linear_solves", "step_cuts"):
+        if exact:
+            assert sa[key] == sb[key], f"{key}: {sa[key]} vs {sb[key]}"
+    for name in ("steps.csv", "frames.csv", "profiles.csv"):
+        ra, rb = rows(f"{a}/{name}"), rows(f"{b}/{name}")
+        assert len(ra) == len(rb) and ra[0] == rb[0], f"{name}: rows or columns differ"
+        worst = 0.0
+        for x, y in zip(ra[1:], rb[1:]):
+            for h, u, v in zip(ra[0], x, y):
+                if h in ("newton_iterations", "residual_N"):
+                    continue
+                try:
+                    u, v = float(u), float(v)
+                except ValueError:  # a label (the surface)
+                    assert u == v, f"{name} {h}: {u} vs {v}"
+                    continue
+                d = abs(u - v)
+                if exact:
+                    assert u == v, f"{name} {h}: {u} vs {v}"
+                else:
+                    assert d <= 1e-9 or d <= 1e-8 * max(abs(u), abs(v)), \
+                        f"{name} {h}: {u} vs {v}"
+                worst = max(worst, d)
+        print(f"{name}: {len(ra) - 1} rows agree (largest difference {worst:.1e})")
+
+
+# The uninterrupted run, with checkpoints on (their boundaries are part of
+# the run: each drops the kept factorisation).
+ref = f"{out}/uninterrupted"
+nct_run(ranks_first, ref)
+steps_total = len(rows(f"{ref}/steps.csv")) - 1
+written = sorted(f for f in os.listdir(f"{ref}/checkpoint") if f.endswith(".h5"))
+print(f"uninterrupted: {steps_total} dynamic steps, checkpoints kept {written}")
+
+# Killed at a random step after the first checkpoint, resumed.
+every = next(int(kv.split("=")[1]) for kv in sys.argv[7:] if kv.startswith("checkpoint.steps="))
+kill = rng.randrange(every + 1, steps_total)
+killed = f"{out}/killed"
+nct_run(ranks_first, killed, env={"NCT_TEST_KILL_AT_STEP": str(kill)}, expect=None)
+assert not os.path.exists(f"{killed}/summary.json"), "the killed run wrote a summary"
+print(f"killed at dynamic step {kill} on {ranks_first} rank(s); latest checkpoint: "
+      + open(f"{killed}/checkpoint/latest").read().strip())
+text = nct_run(ranks_resume, killed, resume=True)
+assert "resume:" in text
+print(f"resumed on {ranks_resume} rank(s)")
+agree(killed, ref)
+
+# Killed while writing its second checkpoint: the first stays the latest.
+torn = f"{out}/killed_writing"
+nct_run(ranks_first, torn, env={"NCT_TEST_KILL_IN_CHECKPOINT": "2"}, expect=None)
+tmp = [f for f in os.listdir(f"{torn}/checkpoint") if f.endswith(".tmp")]
+assert tmp, "the kill during the write left no temporary file"
+first = open(f"{torn}/checkpoint/latest").read().strip()
+print(f"killed while writing {tmp[0]}; latest: {first}")
+nct_run(ranks_resume, torn, resume=True)
+agree(torn, ref)
+
+if same:
+    # Refused: another scene, other PETSc options, no checkpoint, a damaged
+    # and a truncated file (exit code 2, the reason named).
+    for extra, why in [(["--set", "inflate.iop=16.0"], "another scene"),
+                       (["--petsc", "-mat_mumps_icntl_14 40"], "other --petsc")]:
+        text = nct_run(ranks_resume, ref, *extra, expect=2, resume=True)
+        assert why in text, text
+        print(f"refused ({why}): " + error_line(text))
+    os.makedirs(f"{out}/empty")
+    text = nct_run(ranks_resume, f"{out}/empty", expect=2, resume=True)
+    assert "no checkpoint to resume from" in text, text
+    latest = open(f"{ref}/checkpoint/latest").read().strip()
+    for damage in ("flip", "truncate"):
+        bad = f"{out}/{damage}"
+        shutil.copytree(ref, bad)
+        path = f"{bad}/checkpoint/{latest}"
+        data = bytearray(open(path, "rb").read())
+        if damage == "flip":
+            # A bit of the displacement's values (a stored byte, not padding).
+            with h5py.File(path, "r") as f:
+                u = f["fields/solid/u/values"]
+                i = u.id.get_offset() + rng.randrange(u.id.get_storage_size())
+            data[i] ^= 0x10
+        else:
+            data = data[: len(data) // 2]
+        open(path, "wb").write(bytes(data))
+        text = nct_run(ranks_resume, bad, expect=2, resume=True)
+        assert "is damaged" in text, text
+        print(f"refused ({damage}): " + error_line(text))
+print("checkpoint: ok")
