@@ -103,6 +103,9 @@ Problem::Problem(const meshio::Tagged& m, const Fluid& fluid, const Boundaries& 
     _R = form(*form_air_p1_full_R, {W});
     _J = form(*form_air_p1_full_J, {W, W});
   }
+  for (const ufcx_form* f : moving() ? std::vector{form_air_ale_p1_full_R, form_air_ale_p1_full_J}
+                                     : std::vector{form_air_p1_full_R, form_air_p1_full_J})
+    _forms_signature += std::string(f->signature) + " ";
 
   // Dirichlet conditions: the inlet first, so that walls win on its rim.
   auto W0 = W->sub({0});
@@ -194,6 +197,29 @@ void Problem::advance()
   std::copy(up->x()->array().begin(), up->x()->array().end(),
             up_n->x()->mutable_array().begin());
   _last_dt = _dt;
+}
+
+nlohmann::json Problem::save(io::CheckpointWriter& checkpoint) const
+{
+  checkpoint.add_geometry("air/geometry", *up->function_space()->mesh());
+  for (auto [name, f] : {std::pair{"up", up}, {"up_n", up_n}, {"up_nm1", up_nm1}})
+    checkpoint.add(std::string("air/") + name, *f);
+  if (moving())
+    for (auto [name, f] : {std::pair{"d", d}, {"d_n", d_n}, {"d_nm1", d_nm1}, {"w", w}})
+      checkpoint.add(std::string("air/") + name, *f);
+  return {{"last_dt", _last_dt}};
+}
+
+void Problem::restore(const io::CheckpointReader& checkpoint, const nlohmann::json& scalars)
+{
+  auto mesh = std::const_pointer_cast<mesh::Mesh>(up->function_space()->mesh());
+  checkpoint.read_geometry("air/geometry", *mesh);
+  for (auto [name, f] : {std::pair{"up", up}, {"up_n", up_n}, {"up_nm1", up_nm1}})
+    checkpoint.read(std::string("air/") + name, *f);
+  if (moving())
+    for (auto [name, f] : {std::pair{"d", d}, {"d_n", d_n}, {"d_nm1", d_nm1}, {"w", w}})
+      checkpoint.read(std::string("air/") + name, *f);
+  _last_dt = scalars.at("last_dt");
 }
 
 void Problem::residual(la::Vector<double>& b)

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -17,6 +18,9 @@
 #include <dolfinx/la/Vector.h>
 #include <petscmat.h>
 
+#include <nlohmann/json.hpp>
+
+#include "io/checkpoint.h"
 #include "meshio/model.h"
 
 namespace nct::air
@@ -83,6 +87,15 @@ public:
   /// velocity of the step is kept for the next step's tau).
   void advance();
 
+  /// The state a checkpoint holds under "air/": the mesh's nodes, (u, p)
+  /// now and before, and (moving) the mesh displacements and velocity;
+  /// returns the scalars it needs besides (the last step's length).
+  nlohmann::json save(io::CheckpointWriter& checkpoint) const;
+  /// Read that state back (`scalars`: what save() returned).
+  void restore(const io::CheckpointReader& checkpoint, const nlohmann::json& scalars);
+  /// The FFCx signatures of the compiled residual and Jacobian.
+  const std::string& forms_signature() const { return _forms_signature; }
+
   /// b = R(u, p), with b = d (u - g) on Dirichlet dofs: d = rho U (1 mm)^2
   /// [N per mm/ms] keeps those rows of the size of the balance's.
   void residual(dolfinx::la::Vector<double>& b);
@@ -139,6 +152,7 @@ private:
   std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> _facets;
   double _bc_diagonal = 1;
   double _last_dt = 0; ///< the last advanced step's length (0 before any)
+  std::string _forms_signature;
   double _dt = 0;
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <set>
 #include <stdexcept>
 #include <unordered_map>
@@ -226,6 +227,33 @@ void Coupled::pair(const meshio::Tagged& solid_mesh, const meshio::Tagged& air_m
   }
   if (_nodes.empty())
     throw std::runtime_error("fsi: the interface has no nodes");
+  _order.resize(_nodes.size());
+  std::iota(_order.begin(), _order.end(), 0);
+  std::sort(_order.begin(), _order.end(),
+            [&](auto i, auto j) { return _nodes[i].air_place < _nodes[j].air_place; });
+}
+
+nlohmann::json Coupled::save(io::CheckpointWriter& checkpoint) const
+{
+  std::vector<double> u0, lambda_n;
+  for (auto n : _order)
+    for (int k = 0; k < 3; ++k)
+      u0.push_back(_u0[3 * n + k]), lambda_n.push_back(_lambda_n[3 * n + k]);
+  return {{"air", _air.save(checkpoint)}, {"u0", u0}, {"lambda_n", lambda_n}};
+}
+
+void Coupled::restore(const io::CheckpointReader& checkpoint, const nlohmann::json& state)
+{
+  _air.restore(checkpoint, state.at("air"));
+  const auto u0 = state.at("u0").get<std::vector<double>>(),
+             lambda_n = state.at("lambda_n").get<std::vector<double>>();
+  if (u0.size() != 3 * _nodes.size())
+    throw io::CheckpointError("the checkpoint's interface has another number of nodes");
+  for (std::size_t i = 0; i < _order.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      _u0[3 * _order[i] + k] = u0[3 * i + k], _lambda_n[3 * _order[i] + k] = lambda_n[3 * i + k];
+  _unknowns->pack();
+  _started = true;
 }
 
 void Coupled::set_time_step(double dt, double rho_inf, double damping, int bdf_order)
@@ -499,6 +527,7 @@ void Coupled::start()
   solid_state(_u0, v);
   std::fill(_lambda_n.begin(), _lambda_n.end(), 0.0);
   _unknowns->pack();
+  _started = true;
 }
 
 void Coupled::advance()

@@ -80,6 +80,15 @@ public:
   /// solid's current surface, by the mesh motion's extension; the air is
   /// at rest, d = 0, and u_0 is the current u.
   void start();
+  /// Has the coupling started (or been restored)?
+  bool started() const { return _started; }
+  /// The coupling's state a checkpoint holds, with the air's (the solid's
+  /// is the solid's own): per interface node (in the order of their places
+  /// as built, whatever the partition) u_0 and the last step's reaction.
+  nlohmann::json save(io::CheckpointWriter& checkpoint) const;
+  /// Continue from a checkpoint instead of start(): the air mesh, the air
+  /// and the coupling as saved (the solid restored before).
+  void restore(const io::CheckpointReader& checkpoint, const nlohmann::json& state);
   /// The coupled Newton system; `closed`: the solid's closed cavities
   /// (their pressures are y), or null.
   solver::System system(cavity::Closed* closed);
@@ -138,6 +147,7 @@ private:
   bool _shape_derivative;
   std::unique_ptr<solver::Monolithic> _unknowns;
   std::vector<Node> _nodes;
+  std::vector<std::size_t> _order; ///< the nodes by their places as built
   std::vector<double> _u0;                     ///< u at the start, per node and component
   std::vector<double> _lambda, _lambda_n;      ///< the air's reaction at t_{n+1}, t_n
   std::vector<double> _air_velocity_n;         ///< u_f at t_n, per node and component
@@ -148,6 +158,7 @@ private:
   std::vector<double> _no_unknowns;
   std::map<std::string, double> _timings;
   double _alpha_f = 0;
+  bool _started = false;
 };
 
 } // namespace nct::fsi

@@ -124,6 +124,8 @@ std::vector<std::int64_t> dof_keys(const dolfinx::fem::FunctionSpace& V)
   std::vector<dolfinx::graph::AdjacencyList<int>> vertices;
   for (int d = 0; d <= tdim; ++d)
     vertices.push_back(dolfinx::mesh::get_entity_vertices(mesh.topology().cell_type(), d));
+  // A vertex may hold several dofs (a mixed element's): the i-th is key m + i.
+  const std::int64_t m = layout.num_entity_dofs(0) > 0 ? layout.num_entity_dofs(0) : 1;
   for (std::int32_t c = 0; c < geometry.num_nodes(); ++c)
   {
     const auto nodes = geometry.links(c);
@@ -134,14 +136,15 @@ std::vector<std::int64_t> dof_keys(const dolfinx::fem::FunctionSpace& V)
         const auto& local = layout.entity_dofs(d, e);
         if (local.empty())
           continue;
-        if (d > 1 || local.size() > 1)
+        if (d > 1 || (d == 1 && local.size() > 1))
           throw std::runtime_error("checkpoint: a function space with dofs inside faces or "
-                                   "cells, or several per entity, has no node keys");
+                                   "cells, or several on an edge, has no node keys");
         const auto ends = vertices[d].links(e);
         std::int64_t a = input[nodes[ends.front()]], b = input[nodes[ends.back()]];
         if (a > b)
           std::swap(a, b);
-        keys[dofs[local[0]]] = a * N + b;
+        for (std::size_t i = 0; i < local.size(); ++i)
+          keys[dofs[local[i]]] = (a * N + b) * m + std::int64_t(i);
       }
   }
   if (std::find(keys.begin(), keys.end(), -1) != keys.end())

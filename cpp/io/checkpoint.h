@@ -30,8 +30,9 @@ public:
 /// Keys of a function space's local dof blocks (owned, then ghosts) that do
 /// not depend on the partition: a vertex's dof is its input node index n
 /// (key n N + n), an edge's dof its two nodes' (key min N + max), N the
-/// number of nodes. Lagrange spaces of degree 1 and 2 (and their vector
-/// versions) on a mesh of linear cells.
+/// number of nodes; with m dofs per vertex (a mixed element's) the i-th of
+/// an entity's has key m k + i. Lagrange spaces of degree 1 and 2, their
+/// vector and mixed P1 versions, on a mesh of linear cells.
 std::vector<std::int64_t> dof_keys(const dolfinx::fem::FunctionSpace& V);
 
 /// A mesh as built, independent of the partition: its node and cell counts

@@ -246,4 +246,49 @@ void AirRecord::summarise(nlohmann::json& summary) const
     _flow->summarise(summary);
 }
 
+nlohmann::json AirOutput::state() const
+{
+  return {{"fields", _fields.state()},       {"centreline_csv", _centreline_csv},
+          {"table_csv", _table_csv},         {"centreline_peak", _centreline_peak},
+          {"apex_max", _apex_max},           {"apex_max_time", _apex_max_time},
+          {"speed_max", _speed_max}};
+}
+
+void AirOutput::restore(const nlohmann::json& j)
+{
+  _fields.restore(j.at("fields"));
+  _centreline_csv = j.at("centreline_csv");
+  _table_csv = j.at("table_csv");
+  j.at("centreline_peak").get_to(_centreline_peak);
+  _apex_max = j.at("apex_max"), _apex_max_time = j.at("apex_max_time");
+  _speed_max = j.at("speed_max");
+}
+
+nlohmann::json FlowOutput::state() const
+{
+  return {{"fields", _fields.state()}, {"forces_csv", _forces_csv},
+          {"last_force", _last.force}, {"last_speed", _last.max_speed},
+          {"force", _force},           {"speed_max", _speed_max}};
+}
+
+void FlowOutput::restore(const nlohmann::json& j)
+{
+  _fields.restore(j.at("fields"));
+  _forces_csv = j.at("forces_csv");
+  j.at("last_force").get_to(_last.force);
+  _last.max_speed = j.at("last_speed");
+  j.at("force").get_to(_force);
+  _speed_max = j.at("speed_max");
+}
+
+nlohmann::json AirRecord::state() const { return _eye ? _eye->state() : _flow->state(); }
+
+void AirRecord::restore(const nlohmann::json& j)
+{
+  if (_eye)
+    _eye->restore(j);
+  else
+    _flow->restore(j);
+}
+
 } // namespace nct

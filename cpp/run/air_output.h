@@ -33,6 +33,9 @@ public:
   /// Write the fields at `time` if they are due (update_fields done).
   void sample(double time);
   double t_output = 0; ///< wall time spent writing fields [s]
+  /// When the next fields are due, for a checkpoint; and back.
+  nlohmann::json state() const { return {_next_output, t_output}; }
+  void restore(const nlohmann::json& j) { _next_output = j[0], t_output = j[1]; }
 
 private:
   const scene::Scene& _scene;
@@ -80,6 +83,10 @@ public:
   double apex_max() const { return _apex_max; }
   double apex_max_time() const { return _apex_max_time; }
   double t_output() const { return _fields.t_output; }
+  /// What has been recorded (the tables, the peaks), for a checkpoint;
+  /// restore() takes it back.
+  nlohmann::json state() const;
+  void restore(const nlohmann::json& state);
 
 private:
   io::RunFolder& _folder;
@@ -119,6 +126,10 @@ public:
   void write_tables() const;
   /// The last force and the largest speed into the summary.
   void summarise(nlohmann::json& summary) const;
+  /// What has been recorded (the tables, the peaks), for a checkpoint;
+  /// restore() takes it back.
+  nlohmann::json state() const;
+  void restore(const nlohmann::json& state);
 
 private:
   io::RunFolder& _folder;
@@ -157,6 +168,10 @@ public:
   void summarise(nlohmann::json& summary) const;
   /// The eye's record, or null on a file mesh.
   const AirOutput* eye() const { return _eye ? &*_eye : nullptr; }
+  /// What has been recorded (the tables, the peaks), for a checkpoint;
+  /// restore() takes it back.
+  nlohmann::json state() const;
+  void restore(const nlohmann::json& state);
 
 private:
   std::optional<AirOutput> _eye;

@@ -505,10 +505,10 @@ void check(MPI_Comm comm, const scene::Scene& s)
   if (s.integer("checkpoint.steps") > 0)
   {
     const std::string load = s.string("puff.load");
-    if (load == "air" || load == "fsi")
+    if (load == "air")
       throw scene::Error(s.file().string() + ": key 'checkpoint.steps': checkpoints of the "
-                         "air puff and the coupled puff (puff.load = \"" + load
-                         + "\") are not implemented yet; set it to 0");
+                         "air puff alone (puff.load = \"air\") are not implemented yet; set "
+                         "it to 0");
     if (s.boolean("output.fields"))
       throw scene::Error(s.file().string() + ": key 'checkpoint.steps': a run that writes "
                          "XDMF fields cannot resume yet; set output.fields = false or "

@@ -612,11 +612,21 @@ public:
     auto& coupled = *m.coupled;
     auto& air = *m.air;
     s.start_dynamics();
-    coupled.start();
+    const bool resumed = !_resumed.is_null(); // RunState::resume restored the coupling
+    if (!resumed)
+      coupled.start();
     AirRecord out(s.scene, s.folder, m, air, true, m.motion.get());
+    _out = &out;
+    if (resumed)
+    {
+      out.restore(_resumed.at("record"));
+      _worst_jacobian = _resumed.at("worst_jacobian");
+      _worst_power = _resumed.at("worst_power");
+      _largest_power = _resumed.at("largest_power");
+    }
     const auto inlet = inlet_velocity(s.scene);
     auto& unknowns = coupled.unknowns();
-    air.set_inlet_scale(inlet(0));
+    air.set_inlet_scale(inlet(resumed ? s.stepper.resume->t : 0));
     unknowns.pack();
     set_coupled_solver_options(s.scene);
     auto& newton = s.newton("coupled", [&] { return coupled.create_matrix(); }, "fsi_");
@@ -626,7 +636,7 @@ public:
                  damping = s.scene.real("dynamics.damping");
     const int order = s.scene.integer("air.bdf_order");
     fsi::Power power;
-    double jacobian = 1, worst_jacobian = 1, worst_power = 0, largest_power = 0, force = 0;
+    double jacobian = 1, force = 0;
     const int symmetry = m.problem->symmetry_factor();
     const Stepper::Dynamics dynamics{
         [&](double dt) { coupled.set_time_step(dt, rho_inf, damping, order); },
@@ -670,9 +680,12 @@ public:
     };
     try
     {
-      const auto first = sample(0);
-      if (s.frames && s.frames->frames() == 0)
-        s.add_frame(0, 0, solver::NewtonReport{true, 0, {0.0}, ""}, first);
+      if (!resumed)
+      {
+        const auto first = sample(0);
+        if (s.frames && s.frames->frames() == 0)
+          s.add_frame(0, 0, solver::NewtonReport{true, 0, {0.0}, ""}, first);
+      }
       s.stepper.march(
           newton, "puff", 0, s.scene.real("puff.duration"), s.scene.real("dynamics.dt"), dynamics,
           system,
@@ -686,9 +699,10 @@ public:
           [&](double t, double dt, const solver::NewtonReport& report)
           {
             const auto columns = sample(t);
-            worst_jacobian = std::min(worst_jacobian, jacobian);
-            worst_power = std::max(worst_power, std::abs(power.air - power.solid));
-            largest_power = std::max({largest_power, std::abs(power.air), std::abs(power.solid)});
+            _worst_jacobian = std::min(_worst_jacobian, jacobian);
+            _worst_power = std::max(_worst_power, std::abs(power.air - power.solid));
+            _largest_power
+                = std::max({_largest_power, std::abs(power.air), std::abs(power.solid)});
             s.dynamic_step({{"phase", "puff"}}, t, dt, report, columns, text);
           });
     }
@@ -702,15 +716,31 @@ public:
     out.summarise(air_summary);
     s.summary["air"] = air_summary;
     s.summary["coupled_timings_s"] = coupled.timings();
-    s.summary["air_mesh_jacobian_min"] = worst_jacobian;
-    s.summary["interface_power_mismatch_max_mW"] = worst_power;
-    s.summary["interface_power_max_mW"] = largest_power;
+    s.summary["air_mesh_jacobian_min"] = _worst_jacobian;
+    s.summary["interface_power_mismatch_max_mW"] = _worst_power;
+    s.summary["interface_power_max_mW"] = _largest_power;
+    _out = nullptr;
     if (s.frames)
     {
       s.write_tables();
       summarise_puff(s);
     }
   }
+  nlohmann::json save() const override
+  {
+    return {{"record", _out->state()},
+            {"worst_jacobian", _worst_jacobian},
+            {"worst_power", _worst_power},
+            {"largest_power", _largest_power}};
+  }
+  void restore(const nlohmann::json& state) override { _resumed = state; }
+
+private:
+  AirRecord* _out = nullptr; ///< while run() marches
+  /// The air mesh's smallest Jacobian, the largest interface power
+  /// mismatch and power over the steps so far [mW].
+  double _worst_jacobian = 1, _worst_power = 0, _largest_power = 0;
+  nlohmann::json _resumed; ///< a checkpoint's state of the phase, or null
 };
 
 } // namespace

@@ -123,8 +123,6 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
   // through the last two states (which only it needs to keep).
   const bool extrapolate = _predictor == Predictor::extrapolate;
   const bool secant = extrapolate && !problem.predict;
-  if (secant && resume)
-    throw std::runtime_error("checkpoint: a march with the secant predictor cannot resume yet");
   int successes = 0, steps = 0, rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   if (resume)
@@ -184,6 +182,7 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
     if (boundaries.every > 0 && steps % boundaries.every == 0)
     {
       newton.reset();
+      two = false; // the next step's predictor starts afresh too
       if (boundaries.at)
         boundaries.at({steps, t, dt, successes});
     }

@@ -72,9 +72,10 @@ public:
     int successes = 0;
   };
   /// Every `every`-th step of a march is a checkpoint boundary (0: none):
-  /// the Newton solver drops its kept factorisation there, so that a run
-  /// resumed at a boundary continues exactly as the uninterrupted one, and
-  /// `at` sees the march's state (to write a checkpoint).
+  /// the Newton solver drops its kept factorisation there and the secant
+  /// predictor its history, so that a run resumed at a boundary continues
+  /// exactly as the uninterrupted one, and `at` sees the march's state (to
+  /// write a checkpoint).
   struct Boundaries
   {
     int every = 0;

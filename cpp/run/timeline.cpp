@@ -123,6 +123,8 @@ RunState::RunState(MPI_Comm comm, const scene::Scene& s, io::RunFolder& folder, 
   if (const int every = s.integer("checkpoint.steps"); every > 0)
   {
     _mesh_as_built = io::mesh_fingerprint(*model.setup.mesh.mesh);
+    if (model.air_mesh)
+      _mesh_as_built += "; air " + io::mesh_fingerprint(*model.air_mesh->mesh.mesh);
     stepper.boundaries = {every, [this](const Stepper::MarchState& m) { checkpoint(m); }};
   }
   open.emplace(*model.problem);
@@ -147,6 +149,9 @@ solver::Newton& RunState::newton(const std::string& name, const std::function<Ma
   {
     it->second.A = std::make_unique<dolfinx::la::petsc::Matrix>(create(), false);
     it->second.newton = std::make_unique<solver::Newton>(comm, it->second.A->mat(), prefix);
+    // Resumed: the counts and times of the run before.
+    if (auto before = _resumed_timings.find(name); before != _resumed_timings.end())
+      it->second.newton->timings = before->second;
   }
   return *it->second.newton;
 }
@@ -178,14 +183,14 @@ solver::Newton& RunState::solid_newton()
 solver::Timings RunState::timings() const
 {
   solver::Timings t;
-  for (auto& [name, s] : _solvers)
-    t += s.newton->timings;
+  for (auto& [name, u] : solver_timings())
+    t += u;
   return t;
 }
 
 std::map<std::string, solver::Timings> RunState::solver_timings() const
 {
-  std::map<std::string, solver::Timings> t;
+  std::map<std::string, solver::Timings> t = _resumed_timings;
   for (auto& [name, s] : _solvers)
     t[name] = s.newton->timings;
   return t;
@@ -362,13 +367,16 @@ nlohmann::json RunState::identity() const
   nlohmann::json petsc = nlohmann::json::array();
   for (const auto& [name, value] : _petsc)
     petsc.push_back({name, value});
+  std::string forms = model.problem->forms_signature();
+  if (model.air)
+    forms += model.air->forms_signature();
   return {{"format", checkpoint_format},
           {"scene", io::format("%016llx", (unsigned long long)[&] {
              const std::string toml = scene.to_toml({"checkpoint.minutes", "checkpoint.keep"});
              return io::fnv1a(toml.data(), toml.size());
            }())},
           {"petsc", petsc},
-          {"forms", model.problem->forms_signature()},
+          {"forms", forms},
           {"mesh", _mesh_as_built}};
 }
 
@@ -411,6 +419,8 @@ void RunState::checkpoint(const Stepper::MarchState& march)
     doc["closed"] = {{"pressures", closed->pressures()}, {"targets", closed->targets()}};
   io::CheckpointWriter writer(comm);
   model.problem->save(writer);
+  if (model.coupled && model.coupled->started())
+    doc["coupled"] = model.coupled->save(writer);
   const std::size_t step = summary["steps"].size();
   const auto bytes = writer.write(folder.dir() / "checkpoint", format("ckpt-%06zu.h5", step),
                                   doc, scene.integer("checkpoint.keep"));
@@ -455,12 +465,7 @@ std::size_t RunState::resume(const io::CheckpointReader& checkpoint)
   stepper.newton_iterations = doc.at("newton_iterations");
   stepper.cuts = doc.at("cuts");
   for (const auto& [name, t] : doc.at("solvers").items())
-  {
-    if (name != "solid")
-      throw io::CheckpointError("the checkpoint " + checkpoint.file().string()
-                                + " holds a solver this run cannot resume: " + name);
-    solid_newton().timings = timings_of(t);
-  }
+    _resumed_timings[name] = timings_of(t);
   t0 = doc.at("t0");
   doc.at("open_pressures").get_to(open_pressures);
   surface_pressure = doc.at("surface_pressure");
@@ -475,6 +480,8 @@ std::size_t RunState::resume(const io::CheckpointReader& checkpoint)
     step = solid::TimeStep{scene.real("dynamics.dt"), scene.real("dynamics.rho_inf"),
                            scene.real("dynamics.damping")};
   problem.restore(checkpoint, step);
+  if (doc.contains("coupled"))
+    model.coupled->restore(checkpoint, doc["coupled"]);
   if (doc.contains("closed"))
     closed.emplace(problem, doc["closed"].at("pressures").get<std::vector<double>>(),
                    doc["closed"].at("targets").get<std::vector<double>>());

@@ -173,6 +173,8 @@ private:
   nlohmann::json identity() const;
   std::vector<std::pair<std::string, std::string>> _petsc;
   std::string _mesh_as_built;
+  /// A resumed run's solvers' timings before, until each solver is made.
+  std::map<std::string, solver::Timings> _resumed_timings;
   double _last_checkpoint = 0; ///< MPI_Wtime() of the last write
   struct Solver
   {
