@@ -129,6 +129,8 @@ assert tmp, "the kill during the write left no temporary file"
 first = open(f"{torn}/checkpoint/latest").read().strip()
 print(f"killed while writing {tmp[0]}; latest: {first}")
 nct_run(ranks_resume, torn, resume=True)
+assert not [f for f in os.listdir(f"{torn}/checkpoint") if f.endswith(".tmp")], \
+    "the temporary file of the cut write is still there"
 agree(torn, ref)
 
 if same:

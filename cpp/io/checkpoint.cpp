@@ -280,11 +280,14 @@ std::uintmax_t CheckpointWriter::write(const std::filesystem::path& dir, const s
       std::filesystem::rename(tmp, file);
       bytes = std::filesystem::file_size(file);
       write_atomic(dir / "latest", name + "\n");
-      // The newest `keep` checkpoints stay (names sort by step).
+      // The newest `keep` checkpoints stay (names sort by step); a write
+      // cut short before this one left a temporary file.
       std::vector<std::filesystem::path> old;
       for (const auto& entry : std::filesystem::directory_iterator(dir))
         if (entry.path().extension() == ".h5")
           old.push_back(entry.path());
+        else if (entry.path().extension() == ".tmp")
+          std::filesystem::remove(entry.path());
       std::sort(old.begin(), old.end());
       for (std::size_t i = 0; i + keep < old.size(); ++i)
         std::filesystem::remove(old[i]);

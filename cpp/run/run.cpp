@@ -240,6 +240,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
     phases[first]->restore(checkpoint->document().at("phase_state"));
     state.phase = phases[first].get();
     state.phase_index = first;
+    state.summary["blas"] = blas_library(); // this process's, not the one before
   }
   try
   {
