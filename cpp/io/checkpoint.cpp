@@ -221,9 +221,16 @@ void CheckpointWriter::add(const std::string& name, std::span<const double> valu
 void CheckpointWriter::add(const std::string& name, const dolfinx::fem::Function<double>& f)
 {
   const auto& V = *f.function_space();
-  const auto keys = dof_keys(V);
-  add(name, f.x()->array(), V.dofmap()->index_map_bs(), keys,
+  add(name, f.x()->array(), V.dofmap()->index_map_bs(), keys(V),
       V.dofmap()->index_map->size_local());
+}
+
+const std::vector<std::int64_t>& CheckpointWriter::keys(const dolfinx::fem::FunctionSpace& V)
+{
+  auto [it, fresh] = _keys.try_emplace(&V);
+  if (fresh)
+    it->second = dof_keys(V);
+  return it->second;
 }
 
 void CheckpointWriter::add_geometry(const std::string& name, const Mesh& mesh)
@@ -305,7 +312,7 @@ std::uintmax_t CheckpointWriter::write(const std::filesystem::path& dir, const s
   return bytes;
 }
 
-CheckpointReader::CheckpointReader(MPI_Comm comm, const std::filesystem::path& dir)
+CheckpointReader::CheckpointReader(const std::filesystem::path& dir)
 {
   const auto latest = dir / "latest";
   std::ifstream named(latest);
@@ -356,7 +363,6 @@ CheckpointReader::CheckpointReader(MPI_Comm comm, const std::filesystem::path& d
     throw damaged(e.what());
   }
   H5Eset_auto2(H5E_DEFAULT, func, data);
-  (void)comm;
 }
 
 void CheckpointReader::read(const std::string& name, std::span<double> values, int bs,
@@ -379,7 +385,15 @@ void CheckpointReader::read(const std::string& name, std::span<double> values, i
 void CheckpointReader::read(const std::string& name, dolfinx::fem::Function<double>& f) const
 {
   const auto& V = *f.function_space();
-  read(name, f.x()->mutable_array(), V.dofmap()->index_map_bs(), dof_keys(V));
+  read(name, f.x()->mutable_array(), V.dofmap()->index_map_bs(), keys(V));
+}
+
+const std::vector<std::int64_t>& CheckpointReader::keys(const dolfinx::fem::FunctionSpace& V) const
+{
+  auto [it, fresh] = _keys.try_emplace(&V);
+  if (fresh)
+    it->second = dof_keys(V);
+  return it->second;
 }
 
 void CheckpointReader::read_geometry(const std::string& name, Mesh& mesh) const

@@ -56,6 +56,8 @@ public:
            std::span<const std::int64_t> keys, std::int32_t owned);
   /// A function's owned dofs, keyed by dof_keys().
   void add(const std::string& name, const dolfinx::fem::Function<double>& f);
+  /// dof_keys(V), computed once per space; collective on first use.
+  const std::vector<std::int64_t>& keys(const dolfinx::fem::FunctionSpace& V);
   /// The mesh's node coordinates, keyed by their input index.
   void add_geometry(const std::string& name, const dolfinx::mesh::Mesh& mesh);
 
@@ -74,6 +76,7 @@ private:
   };
   MPI_Comm _comm;
   std::map<std::string, Data> _data;
+  std::map<const dolfinx::fem::FunctionSpace*, std::vector<std::int64_t>> _keys;
 };
 
 /// The newest checkpoint of a folder (named by its file `latest`), read
@@ -83,7 +86,7 @@ class CheckpointReader
 public:
   /// Throws CheckpointError if there is none, or it cannot be read, or a
   /// checksum does not match.
-  CheckpointReader(MPI_Comm comm, const std::filesystem::path& dir);
+  explicit CheckpointReader(const std::filesystem::path& dir);
   const nlohmann::json& document() const { return _document; }
   const std::filesystem::path& file() const { return _file; }
 
@@ -92,6 +95,8 @@ public:
   void read(const std::string& name, std::span<double> values, int bs,
             std::span<const std::int64_t> keys) const;
   void read(const std::string& name, dolfinx::fem::Function<double>& f) const;
+  /// dof_keys(V), computed once per space; collective on first use.
+  const std::vector<std::int64_t>& keys(const dolfinx::fem::FunctionSpace& V) const;
   /// Move the mesh's nodes to the saved coordinates.
   void read_geometry(const std::string& name, dolfinx::mesh::Mesh& mesh) const;
 
@@ -105,6 +110,7 @@ private:
   std::filesystem::path _file;
   nlohmann::json _document;
   std::map<std::string, Data> _data;
+  mutable std::map<const dolfinx::fem::FunctionSpace*, std::vector<std::int64_t>> _keys;
 };
 
 } // namespace nct::io

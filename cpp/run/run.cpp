@@ -200,7 +200,7 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
     if (s.integer("checkpoint.steps") == 0)
       throw io::CheckpointError(s.file().string() + ": --resume needs the scene the run "
                                 "was started with, whose checkpoint.steps is > 0 (it is 0)");
-    checkpoint.emplace(comm, options.out / "checkpoint");
+    checkpoint.emplace(options.out / "checkpoint");
   }
   io::RunFolder folder(comm, options.out, options.resume);
   folder.write_text("scene.toml", s.to_toml());

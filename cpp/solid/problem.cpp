@@ -414,7 +414,7 @@ void Problem::save(io::CheckpointWriter& checkpoint) const
   {
     checkpoint.add("solid/u_support", *_u_support);
     const auto& V = *u->function_space();
-    checkpoint.add("solid/preload", _preload->array(), 3, io::dof_keys(V),
+    checkpoint.add("solid/preload", _preload->array(), 3, checkpoint.keys(V),
                    V.dofmap()->index_map->size_local());
   }
 }
@@ -435,7 +435,7 @@ void Problem::restore(const io::CheckpointReader& checkpoint, const std::optiona
     checkpoint.read("solid/u_support", *_u_support);
     _preload.emplace(u->x()->map(), u->x()->bs());
     auto preload = _preload->mutable_array();
-    checkpoint.read("solid/preload", preload, 3, io::dof_keys(*u->function_space()));
+    checkpoint.read("solid/preload", preload, 3, checkpoint.keys(*u->function_space()));
     const std::size_t owned = _preload->map()->size_local() * 3;
     std::fill(preload.begin() + owned, preload.end(), 0.0); // owned entries only
     release_support();
