@@ -16,8 +16,10 @@ round-off (MUMPS' parallel factorisation sums in the order messages
 arrive), which the Newton tolerance turns into about 1e-10.
 NCT_TEST_SEED fixes the random step."""
 import csv
+import json
 import os
 import random
+import re
 import shutil
 import subprocess
 import sys
@@ -71,7 +73,6 @@ def agree(a, b):
                        stdout=subprocess.PIPE, text=True)
     print(p.stdout.strip())
     assert p.returncode == 0, f"summaries differ: {a} vs {b}"
-    import json
     sa, sb = (json.load(open(f"{x}/summary.json")) for x in (a, b))
     for key in ("newton_iterations", "factorisations", "linear_solves", "step_cuts"):
         if exact:
@@ -109,8 +110,11 @@ written = sorted(f for f in os.listdir(f"{ref}/checkpoint") if f.endswith(".h5")
 print(f"uninterrupted: {steps_total} dynamic steps, checkpoints kept {written}")
 
 # Killed at a random step after the first checkpoint, resumed.
-every = next(int(kv.split("=")[1]) for kv in sys.argv[7:] if kv.startswith("checkpoint.steps="))
-kill = rng.randrange(every + 1, steps_total)
+# Killed after the first checkpoint (a march's boundary: the rest may hold
+# none): its step in the run's numbering less the quasi-static steps.
+quasi_static = len(json.load(open(f"{ref}/summary.json"))["steps"]) - steps_total
+first = int(re.search(r"^checkpoint: step (\d+)", open(f"{ref}/run.log").read(), re.M)[1])
+kill = rng.randrange(first - quasi_static + 1, steps_total)
 killed = f"{out}/killed"
 nct_run(ranks_first, killed, env={"NCT_TEST_KILL_AT_STEP": str(kill)}, expect=None)
 assert not os.path.exists(f"{killed}/summary.json"), "the killed run wrote a summary"
