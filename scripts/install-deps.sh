@@ -19,8 +19,10 @@ packages=(
   libboost-dev libceres-dev
   # scripts and test checks (read XDMF/HDF5, plots)
   python3-numpy python3-h5py python3-matplotlib
-  # the study test's independent ANOVA (least squares, F tests)
-  python3-scipy
+  # the study test's independent ANOVA (least squares, F tests); the
+  # checkpoint test's matching of points across partitions (k-d tree) and
+  # its XPath look-ups in the XDMF files
+  python3-scipy python3-lxml
 )
 
 missing=()

@@ -12,6 +12,8 @@
 #include <dolfinx/io/xdmf_utils.h>
 #include <pugixml.hpp>
 
+#include "io/xdmf_series.h"
+
 namespace nct::io
 {
 
@@ -19,15 +21,8 @@ using dolfinx::io::HDF5Interface;
 
 struct MovingFields::File
 {
-  hid_t h5 = -1;
-  pugi::xml_document xml;
-  pugi::xml_node series; ///< the Temporal collection of Grids
-  int steps = 0;
-  ~File()
-  {
-    if (h5 >= 0)
-      HDF5Interface::close_file(h5);
-  }
+  std::unique_ptr<XdmfSeries> series;
+  int topology = -1; ///< the step whose topology later steps include; -1: none yet
 };
 
 namespace
@@ -85,50 +80,34 @@ void MovingFields::write(const dolfinx::fem::Function<double>& f,
 
   MPI_Comm comm = _mesh->comm();
   const bool mpi_io = dolfinx::MPI::size(comm) > 1;
-  const auto xdmf = _folder.dir() / (f.name + ".xdmf");
-  auto& file = _files[f.name];
-  if (!file)
-  {
-    file = std::make_unique<File>();
-    file->h5 = HDF5Interface::open_file(comm, dolfinx::io::xdmf_utils::get_hdf5_filename(xdmf),
-                                        "w", mpi_io);
-    file->xml.append_child(pugi::node_doctype).set_value("Xdmf SYSTEM \"Xdmf.dtd\" []");
-    pugi::xml_node root = file->xml.append_child("Xdmf");
-    root.append_attribute("Version") = "3.0";
-    root.append_attribute("xmlns:xi") = "http://www.w3.org/2001/XInclude";
-    file->series = root.append_child("Domain").append_child("Grid");
-    file->series.append_attribute("Name") = f.name.c_str();
-    file->series.append_attribute("GridType") = "Collection";
-    file->series.append_attribute("CollectionType") = "Temporal";
-  }
+  auto it = _files.find(f.name);
+  File& file = it == _files.end() ? open(f.name) : *it->second;
+  XdmfSeries& series = *file.series;
+  pugi::xml_node grid = series.add_step(time);
 
-  pugi::xml_node grid = file->series.append_child("Grid");
-  grid.append_attribute("Name") = f.name.c_str();
-  grid.append_attribute("GridType") = "Uniform";
-  char t[32];
-  *std::to_chars(t, t + sizeof(t) - 1, time).ptr = '\0';
-  grid.append_child("Time").append_attribute("Value") = t;
-
-  // The topology: written in the first step, included by the others.
-  if (file->steps == 0)
+  // The topology: written in the first step (on this partition), included by the others.
+  const std::string step = "/Step/" + std::to_string(series.steps());
+  if (file.topology < 0)
   {
     const int tdim = _mesh->topology().dim();
     std::vector<std::int32_t> cells(_mesh->topology().index_map(tdim)->size_local());
     std::iota(cells.begin(), cells.end(), 0);
-    dolfinx::io::xdmf_mesh::add_topology_data(comm, grid, file->h5, "/Mesh", _mesh->topology(),
+    dolfinx::io::xdmf_mesh::add_topology_data(comm, grid, series.h5(), step, _mesh->topology(),
                                               geometry, tdim, cells);
+    file.topology = series.steps();
   }
   else
     grid.append_child("xi:include").append_attribute("xpointer")
-        = "xpointer(/Xdmf/Domain/Grid/Grid[1]/Topology)";
+        = ("xpointer(/Xdmf/Domain/Grid/Grid[" + std::to_string(file.topology + 1)
+           + "]/Topology)")
+              .c_str();
 
-  const std::string step = "/Step/" + std::to_string(file->steps);
   const std::int64_t offset = geometry.index_map()->local_range()[0];
   const std::int64_t num_nodes = geometry.index_map()->size_global();
   pugi::xml_node geometry_node = grid.append_child("Geometry");
   geometry_node.append_attribute("GeometryType") = "XYZ";
-  dolfinx::io::xdmf_utils::add_data_item(geometry_node, file->h5, step + "/geometry", x, offset,
-                                         {num_nodes, 3}, "Float", mpi_io);
+  dolfinx::io::xdmf_utils::add_data_item(geometry_node, series.h5(), step + "/geometry", x,
+                                         offset, {num_nodes, 3}, "Float", mpi_io);
   // Doubles: ParaView reads 4-byte floats without both NumberType and Precision.
   geometry_node.child("DataItem").append_attribute("Precision") = 8;
 
@@ -136,18 +115,39 @@ void MovingFields::write(const dolfinx::fem::Function<double>& f,
   attribute.append_attribute("Name") = f.name.c_str();
   attribute.append_attribute("AttributeType") = width == 1 ? "Scalar" : "Vector";
   attribute.append_attribute("Center") = "Node";
-  dolfinx::io::xdmf_utils::add_data_item(attribute, file->h5, step + "/values", values, offset,
+  dolfinx::io::xdmf_utils::add_data_item(attribute, series.h5(), step + "/values", values, offset,
                                          {num_nodes, width}, "Float", mpi_io);
   attribute.child("DataItem").append_attribute("Precision") = 8;
+  series.commit();
+}
 
-  // The data on disk before the XML that refers to it.
-  HDF5Interface::flush_file(file->h5);
-  ++file->steps;
-  if (dolfinx::MPI::rank(comm) == 0)
+MovingFields::File& MovingFields::open(const std::string& name, int keep)
+{
+  auto& file = _files[name];
+  file = std::make_unique<File>();
+  file->series = std::make_unique<XdmfSeries>(_mesh->comm(), _folder.dir() / (name + ".xdmf"),
+                                              name, keep);
+  return *file;
+}
+
+nlohmann::json MovingFields::state() const
+{
+  nlohmann::json files = nlohmann::json::object();
+  for (const auto& [name, file] : _files)
+    files[name] = file->series->steps();
+  return {{"layout", layout_fingerprint(*_mesh)}, {"files", files}};
+}
+
+void MovingFields::resume(const nlohmann::json& state)
+{
+  const bool same_layout = state.at("layout").get<std::uint64_t>() == layout_fingerprint(*_mesh);
+  for (const auto& [name, steps] : state.at("files").items())
   {
-    std::ostringstream text;
-    file->xml.save(text, "  ");
-    write_atomic(xdmf, text.str());
+    File& file = open(name, steps.get<int>());
+    // The last topology written, if this partition lays the mesh out alike.
+    for (int k = file.series->steps() - 1; same_layout && k >= 0 && file.topology < 0; --k)
+      if (file.series->step(k).child("Topology"))
+        file.topology = k;
   }
 }
 

@@ -7,6 +7,7 @@
 
 #include <dolfinx/fem/Function.h>
 #include <dolfinx/mesh/Mesh.h>
+#include <nlohmann/json.hpp>
 
 #include "io/output.h"
 
@@ -18,8 +19,9 @@ namespace nct::io
 /// ParaView shows the mesh moving. Files are valid after every write.
 ///
 /// The topology is written once per file, in the first step's Grid; later
-/// steps include it by reference. Values are written per geometry node, as
-/// dolfinx's XDMFFile does. The mesh is never modified.
+/// steps include it by reference (a resumed run on a partition that lays
+/// the mesh out otherwise writes it again). Values are written per
+/// geometry node, as dolfinx's XDMFFile does. The mesh is never modified.
 class MovingFields
 {
 public:
@@ -33,9 +35,16 @@ public:
   /// values of both must be up to date. Collective on the mesh's communicator.
   void write(const dolfinx::fem::Function<double>& f,
              const dolfinx::fem::Function<double>& displacement, double time);
+  /// What a checkpoint keeps: each file's steps and the mesh's layout.
+  /// Collective.
+  nlohmann::json state() const;
+  /// Continue the files as `state` left them: the steps after it deleted.
+  /// Collective.
+  void resume(const nlohmann::json& state);
 
 private:
-  struct File; ///< an open HDF5 file and its XML document
+  struct File; ///< a function's series and the step holding its topology
+  File& open(const std::string& name, int keep = -1);
   const RunFolder& _folder;
   std::shared_ptr<const dolfinx::mesh::Mesh> _mesh;
   std::map<std::string, std::unique_ptr<File>> _files;

@@ -8,8 +8,8 @@
 #include <string>
 
 #include <dolfinx/fem/Function.h>
-#include <dolfinx/io/XDMFFile.h>
 #include <mpi.h>
+#include <nlohmann/json.hpp>
 
 namespace nct::io
 {
@@ -40,21 +40,32 @@ private:
 /// One XDMF file per function, so ParaView opens each as a time series.
 /// Functions that are neither DG0 nor on the nodes of the mesh's
 /// coordinate element are interpolated to it (scalars to its scalar
-/// counterpart) first.
+/// counterpart) first. The mesh is written once per file, again only if a
+/// resumed run's partition lays it out otherwise; files are valid after
+/// every write (XdmfSeries).
 class Fields
 {
 public:
   Fields(const RunFolder& folder, std::shared_ptr<const dolfinx::mesh::Mesh> mesh,
          std::shared_ptr<const dolfinx::fem::FunctionSpace> coordinate_space);
-  /// Append `f` at `time` to <f.name>.xdmf; files are flushed per call.
+  ~Fields();
+  /// Append `f` at `time` to <f.name>.xdmf. Collective.
   void write(const dolfinx::fem::Function<double>& f, double time);
+  /// What a checkpoint keeps: each file's steps and the mesh's layout.
+  /// Collective.
+  nlohmann::json state() const;
+  /// Continue the files as `state` left them: the steps after it deleted.
+  /// Collective.
+  void resume(const nlohmann::json& state);
 
 private:
+  struct File;
+  File& open(const std::string& name, int keep = -1);
   const RunFolder& _folder;
   std::shared_ptr<const dolfinx::mesh::Mesh> _mesh;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _coordinate_space;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _scalar_space; ///< made on first use
-  std::map<std::string, std::unique_ptr<dolfinx::io::XDMFFile>> _files;
+  std::map<std::string, std::unique_ptr<File>> _files;
 };
 
 } // namespace nct::io

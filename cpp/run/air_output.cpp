@@ -89,6 +89,23 @@ void AirFields::sample(double time)
   t_output += MPI_Wtime() - t0;
 }
 
+nlohmann::json AirFields::state() const
+{
+  return {{"next_output", _next_output},
+          {"t_output", t_output},
+          {"files", _moving ? _moving->state() : _fields.state()}};
+}
+
+void AirFields::restore(const nlohmann::json& state)
+{
+  _next_output = state.at("next_output");
+  t_output = state.at("t_output");
+  if (_moving)
+    _moving->resume(state.at("files"));
+  else
+    _fields.resume(state.at("files"));
+}
+
 AirOutput::AirOutput(const scene::Scene& scene, io::RunFolder& folder, const AirMesh& a,
                      air::Problem& air, bool with_eye, const mesh_motion::Problem* motion)
     : _folder(folder), _air(air), _motion(motion), _with_eye(with_eye),

@@ -33,9 +33,10 @@ public:
   /// Write the fields at `time` if they are due (update_fields done).
   void sample(double time);
   double t_output = 0; ///< wall time spent writing fields [s]
-  /// When the next fields are due, for a checkpoint; and back.
-  nlohmann::json state() const { return {_next_output, t_output}; }
-  void restore(const nlohmann::json& j) { _next_output = j[0], t_output = j[1]; }
+  /// When the next fields are due and the files so far, for a checkpoint
+  /// (collective); restore() continues them.
+  nlohmann::json state() const;
+  void restore(const nlohmann::json& state);
 
 private:
   const scene::Scene& _scene;

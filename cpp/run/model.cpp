@@ -502,18 +502,6 @@ void check(MPI_Comm comm, const scene::Scene& s)
       throw scene::Error(s.file().string() + ": key 'inlet.table': " + e.what());
     }
   }
-  if (s.integer("checkpoint.steps") > 0)
-  {
-    const std::string load = s.string("puff.load");
-    if (load == "air")
-      throw scene::Error(s.file().string() + ": key 'checkpoint.steps': checkpoints of the "
-                         "air puff alone (puff.load = \"air\") are not implemented yet; set "
-                         "it to 0");
-    if (s.boolean("output.fields"))
-      throw scene::Error(s.file().string() + ": key 'checkpoint.steps': a run that writes "
-                         "XDMF fields cannot resume yet; set output.fields = false or "
-                         "checkpoint.steps = 0");
-  }
   if (s.string("fem.formulation") == "mixed" && s.integer("fem.degree") != 2)
     throw scene::Error(s.file().string() + ": key 'fem.formulation': \"mixed\" (P2/P0) needs "
                        "fem.degree = 2, got " + std::to_string(s.integer("fem.degree")));

@@ -3,6 +3,7 @@
 // alone about a rigid eye, or the air and the eye coupled.
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <dolfinx/io/XDMFFile.h>
 #include <petscksp.h>
@@ -484,21 +485,35 @@ public:
     solver::NewtonSettings settings = s.settings;
     settings.line_search = false;
     Stepper stepper = make_stepper(s.scene, settings, s.folder);
+    stepper.boundaries = s.stepper.boundaries;
+    stepper.resume = std::exchange(s.stepper.resume, std::nullopt);
+    _stepper = &stepper;
+    const bool resumed = !_resumed.is_null();
+    if (resumed)
+    {
+      out.restore(_resumed.at("record"));
+      _steps = _resumed.at("steps");
+      _steps_csv = _resumed.at("steps_csv");
+      stepper.newton_iterations = _resumed.at("newton_iterations");
+      stepper.cuts = _resumed.at("cuts");
+    }
     std::vector<double> no_border;
     const solver::System system{air.up->x().get(), &no_border,
                                 [&](auto& b, auto&) { air.residual(b); },
                                 [&](Mat J) { air.jacobian(J); }, nullptr, nullptr, nullptr};
     const auto inlet = inlet_velocity(s.scene);
-    std::string steps_csv = "t_ms,dt_ms,newton_iterations,residual_N,inlet_velocity_m_s,"
-                            "apex_pressure_mmHg,max_velocity_m_s,fx_N,fy_N,fz_N,wall_s\n";
-    int steps = 0;
     try
     {
-      // From rest, the inlet at its t = 0 value.
-      air.set_inlet_scale(inlet(0));
-      const auto first = out.sample(0);
-      steps_csv += format("0,0,0,0,%.6g,%.6g,%.6g,0,0,0,0\n", inlet(0), first.apex_pressure,
-                          first.max_speed);
+      // From rest, the inlet at its t = 0 value; resumed, at the checkpoint's.
+      air.set_inlet_scale(inlet(resumed ? stepper.resume->t : 0));
+      if (!resumed)
+      {
+        const auto first = out.sample(0);
+        _steps_csv = "t_ms,dt_ms,newton_iterations,residual_N,inlet_velocity_m_s,"
+                     "apex_pressure_mmHg,max_velocity_m_s,fx_N,fy_N,fz_N,wall_s\n"
+                     + format("0,0,0,0,%.6g,%.6g,%.6g,0,0,0,0\n", inlet(0),
+                              first.apex_pressure, first.max_speed);
+      }
       const int order = s.scene.integer("air.bdf_order");
       const Stepper::Dynamics dynamics{[&](double dt) { air.set_time_step(dt, order); },
                                        [] { return 1.0; },
@@ -514,9 +529,9 @@ public:
                     {
                       const double wall = MPI_Wtime() - t_step;
                       t_step = MPI_Wtime();
-                      ++steps;
+                      ++_steps;
                       const auto p = out.sample(time);
-                      steps_csv += format("%.6g,%.6g,%d,%.6e,%.6g,%.6g,%.6g,%.10g,%.10g,%.10g,"
+                      _steps_csv += format("%.6g,%.6g,%d,%.6e,%.6g,%.6g,%.6g,%.10g,%.10g,%.10g,"
                                           "%.3f\n",
                                           time, dt, report.iterations, report.residuals.back(),
                                           inlet(time), p.apex_pressure, p.max_speed, p.force[0],
@@ -535,11 +550,11 @@ public:
     }
     catch (...)
     {
-      finish(s, stepper, steps, steps_csv);
+      finish(s, stepper);
       throw;
     }
-    finish(s, stepper, steps, steps_csv);
-    s.folder.log(format("done: %d steps, %d Newton iterations, %d step cuts", steps,
+    finish(s, stepper);
+    s.folder.log(format("done: %d steps, %d Newton iterations, %d step cuts", _steps,
                         stepper.newton_iterations, stepper.cuts));
     if (file)
     {
@@ -560,15 +575,24 @@ public:
       peaks += format(" %s %.2f m/s;", d.c_str(), v.get<double>());
     s.folder.log(peaks);
   }
+  nlohmann::json save() const override
+  {
+    return {{"record", _out->state()},
+            {"steps", _steps},
+            {"steps_csv", _steps_csv},
+            {"newton_iterations", _stepper->newton_iterations},
+            {"cuts", _stepper->cuts}};
+  }
+  void restore(const nlohmann::json& state) override { _resumed = state; }
 
 private:
   /// The tables so far (whole files) and the stepper's counts.
-  void finish(RunState& s, const Stepper& stepper, int steps, const std::string& steps_csv)
+  void finish(RunState& s, const Stepper& stepper)
   {
-    s.summary["steps"] = steps;
+    s.summary["steps"] = _steps;
     s.stepper.newton_iterations += stepper.newton_iterations;
     s.stepper.cuts += stepper.cuts;
-    s.folder.write_text("steps.csv", steps_csv);
+    s.folder.write_text("steps.csv", _steps_csv);
     _out->write_tables();
   }
 
@@ -596,7 +620,11 @@ private:
     }
   }
 
-  AirRecord* _out = nullptr;
+  AirRecord* _out = nullptr;  ///< while run() marches
+  Stepper* _stepper = nullptr; ///< its own (full Newton steps), while run() marches
+  int _steps = 0;
+  std::string _steps_csv; ///< steps.csv so far
+  nlohmann::json _resumed; ///< a checkpoint's state of the phase, or null
 };
 
 /// Phase 6, coupled (puff.load = "fsi"): the air and the eye in one

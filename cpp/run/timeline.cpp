@@ -20,18 +20,21 @@ nlohmann::json vec(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; 
 
 SolidOutput::SolidOutput(const scene::Scene& scene, io::RunFolder& folder, Model& model,
                          nlohmann::json& steps, const std::vector<std::array<double, 3>>& probes,
-                         double t0)
+                         double t0, const nlohmann::json* fields)
     : _scene(scene), _folder(folder), _model(model), _steps(steps),
       _probes(*model.problem, probes),
       _fields(folder, model.setup.mesh.mesh, model.problem->coordinate_space()),
       _t_step(MPI_Wtime())
 {
-  if (scene.boolean("output.fields"))
+  if (fields)
+    _fields.resume(*fields);
+  else if (scene.boolean("output.fields"))
   {
     _fields.write(*model.problem->fields.at("fibre_1"), t0);
     _fields.write(*model.problem->fields.at("fibre_2"), t0);
   }
-  write_fields(t0);
+  if (!fields)
+    write_fields(t0);
 }
 
 void SolidOutput::write_fields(double time)
@@ -118,15 +121,16 @@ RunState::RunState(MPI_Comm comm, const scene::Scene& s, io::RunFolder& folder, 
   MPI_Comm_size(comm, &ranks);
   summary["ranks"] = ranks;
   summary["steps"] = nlohmann::json::array();
-  if (!model.problem)
-    return;
   if (const int every = s.integer("checkpoint.steps"); every > 0)
   {
-    _mesh_as_built = io::mesh_fingerprint(*model.setup.mesh.mesh);
+    if (model.problem)
+      _mesh_as_built = io::mesh_fingerprint(*model.setup.mesh.mesh);
     if (model.air_mesh)
       _mesh_as_built += "; air " + io::mesh_fingerprint(*model.air_mesh->mesh.mesh);
     stepper.boundaries = {every, [this](const Stepper::MarchState& m) { checkpoint(m); }};
   }
+  if (!model.problem)
+    return;
   open.emplace(*model.problem);
   open_pressures.assign(model.problem->cavities(), 0.0);
   press_peak = s.real("press.pressure") * mmHg;
@@ -350,7 +354,7 @@ solver::Timings timings_of(const nlohmann::json& j)
 }
 
 /// The layout of a checkpoint's document; another cannot be read.
-constexpr int checkpoint_format = 1;
+constexpr int checkpoint_format = 2;
 
 } // namespace
 
@@ -367,7 +371,7 @@ nlohmann::json RunState::identity() const
   nlohmann::json petsc = nlohmann::json::array();
   for (const auto& [name, value] : _petsc)
     petsc.push_back({name, value});
-  std::string forms = model.problem->forms_signature();
+  std::string forms = model.problem ? model.problem->forms_signature() : "";
   if (model.air)
     forms += model.air->forms_signature();
   return {{"format", checkpoint_format},
@@ -396,6 +400,7 @@ void RunState::checkpoint(const Stepper::MarchState& march)
   for (const auto& [name, t] : solver_timings())
     solvers[name] = to_json(t);
   doc.update({{"ranks", ranks},
+              {"step", phase_start.steps + march.steps},
               {"phase", phase_index},
               {"phase_name", phase->name()},
               {"phase_state", phase->save()},
@@ -414,14 +419,18 @@ void RunState::checkpoint(const Stepper::MarchState& march)
               {"probes", probes},
               {"dynamic", _dynamic},
               {"t_output", t_output()},
+              {"xdmf", _output ? _output->fields_state() : nlohmann::json()},
               {"wall_s", MPI_Wtime() - wall_start}});
   if (closed)
     doc["closed"] = {{"pressures", closed->pressures()}, {"targets", closed->targets()}};
   io::CheckpointWriter writer(comm);
-  model.problem->save(writer);
+  if (model.problem)
+    model.problem->save(writer);
+  else
+    doc["air"] = model.air->save(writer); // the air alone
   if (model.coupled && model.coupled->started())
     doc["coupled"] = model.coupled->save(writer);
-  const std::size_t step = summary["steps"].size();
+  const std::size_t step = doc["step"];
   const auto bytes = writer.write(folder.dir() / "checkpoint", format("ckpt-%06zu.h5", step),
                                   doc, scene.integer("checkpoint.keep"));
   const double wall = MPI_Wtime() - start;
@@ -452,7 +461,7 @@ std::size_t RunState::resume(const io::CheckpointReader& checkpoint)
                                 + " was written by " + why[i] + "; refusing to resume");
   folder.log(format("resume: %s, written on %d rank(s) at step %zu (%s t = %.4f ms)",
                     checkpoint.file().string().c_str(), doc.at("ranks").get<int>(),
-                    doc.at("summary").at("steps").size(),
+                    doc.at("step").get<std::size_t>(),
                     doc.at("phase_name").get<std::string>().c_str(),
                     doc.at("march")[1].get<double>()));
   const int ranks = summary["ranks"];
@@ -472,9 +481,22 @@ std::size_t RunState::resume(const io::CheckpointReader& checkpoint)
   doc.at("probes").get_to(probes);
   x_imaged.clear();
   zero_pressure_inflated.clear();
-
-  auto& problem = *model.problem;
   _dynamic = doc.at("dynamic");
+  if (model.problem)
+    resume_solid(checkpoint);
+  else
+    model.air->restore(checkpoint, doc.at("air"));
+  const auto& m = doc.at("march");
+  stepper.resume = Stepper::MarchState{m[0], m[1], m[2], m[3]};
+  const auto& p = doc.at("phase_start");
+  phase_start = {timings_of(p[0]), p[1], p[2], p[3], p[4], MPI_Wtime() - p[5].get<double>()};
+  return doc.at("phase");
+}
+
+void RunState::resume_solid(const io::CheckpointReader& checkpoint)
+{
+  const nlohmann::json& doc = checkpoint.document();
+  auto& problem = *model.problem;
   std::optional<solid::TimeStep> step;
   if (_dynamic)
     step = solid::TimeStep{scene.real("dynamics.dt"), scene.real("dynamics.rho_inf"),
@@ -487,7 +509,9 @@ std::size_t RunState::resume(const io::CheckpointReader& checkpoint)
                    doc["closed"].at("targets").get<std::vector<double>>());
   else if (problem.cavities() > 0)
     problem.set_cavity_pressures(open_pressures);
-  _output.emplace(scene, folder, model, summary["steps"], probes, t0);
+  const auto& fields = doc.at("xdmf");
+  _output.emplace(scene, folder, model, summary["steps"], probes, t0,
+                  fields.is_null() ? nullptr : &fields);
   _output->t_output = doc.at("t_output");
   if (_dynamic)
   {
@@ -495,11 +519,6 @@ std::size_t RunState::resume(const io::CheckpointReader& checkpoint)
     if (frames)
       frames->restore(doc.at("frames"));
   }
-  const auto& m = doc.at("march");
-  stepper.resume = Stepper::MarchState{m[0], m[1], m[2], m[3]};
-  const auto& p = doc.at("phase_start");
-  phase_start = {timings_of(p[0]), p[1], p[2], p[3], p[4], MPI_Wtime() - p[5].get<double>()};
-  return doc.at("phase");
 }
 
 void RunState::write_tables() const

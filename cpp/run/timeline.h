@@ -40,9 +40,11 @@ Stepper make_stepper(const scene::Scene& s, const solver::NewtonSettings& settin
 class SolidOutput
 {
 public:
+  /// `fields`: a resumed run's fields (Fields::state()), continued
+  /// instead of started.
   SolidOutput(const scene::Scene& scene, io::RunFolder& folder, Model& model,
               nlohmann::json& steps, const std::vector<std::array<double, 3>>& probes,
-              double t0);
+              double t0, const nlohmann::json* fields = nullptr);
 
   /// A converged step into the summary's steps (returned), the log and
   /// the fields; `step` holds the phase's own keys.
@@ -50,6 +52,8 @@ public:
                              const biomarkers::Columns& cavities, const std::string& extra = "");
   /// Displacement and von Mises stress at `time` (output.fields).
   void write_fields(double time);
+  /// Its fields' files, for a checkpoint. Collective.
+  nlohmann::json fields_state() const { return _fields.state(); }
   /// The probes' displacements now (every rank gets them).
   std::vector<std::array<double, 3>> probe_displacement() const { return _probes.displacement(); }
   double t_output = 0; ///< wall time spent writing fields [s]
@@ -167,6 +171,8 @@ public:
 private:
   /// The frames of a puff on the eye (from start_dynamics).
   void open_frames();
+  /// The solid's part of resume(): its fields, cavities, output, frames.
+  void resume_solid(const io::CheckpointReader& checkpoint);
   /// What a checkpoint must match: the format, the scene (but where and
   /// how often checkpoints are written), the PETSc options, the forms, the
   /// mesh as built.
