@@ -93,7 +93,6 @@ void Fields::write(const dolfinx::fem::Function<double>& f, double time)
   File& file = it == _files.end() ? open(f.name) : *it->second;
   XdmfSeries& series = *file.series;
   MPI_Comm comm = _mesh->comm();
-  pugi::xml_node grid = series.add_step(time);
   if (file.mesh.empty() && series.steps() == 0)
   {
     // The first step's mesh: a Grid of its own, as dolfinx's XDMFFile writes it.
@@ -101,6 +100,7 @@ void Fields::write(const dolfinx::fem::Function<double>& f, double time)
     dolfinx::io::xdmf_mesh::add_mesh(comm, domain, series.h5(), *_mesh, "mesh");
     file.mesh = "/Xdmf/Domain/Grid[@Name='mesh'][1]";
   }
+  pugi::xml_node grid = series.add_step(time);
   if (file.mesh.empty())
   {
     // Resumed on a partition that lays the mesh out otherwise: in this step.

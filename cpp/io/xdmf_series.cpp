@@ -1,5 +1,6 @@
 #include "io/xdmf_series.h"
 
+#include <algorithm>
 #include <charconv>
 #include <set>
 #include <sstream>
@@ -138,7 +139,7 @@ std::string cut(const std::filesystem::path& xdmf, const std::string& name, int 
 
 XdmfSeries::XdmfSeries(MPI_Comm comm, std::filesystem::path xdmf, const std::string& name,
                        int keep)
-    : _comm(comm), _xdmf(std::move(xdmf))
+    : _comm(comm), _xdmf(std::move(xdmf)), _name(name)
 {
   const int rank = dolfinx::MPI::rank(comm);
   // Rank 0 cuts a resumed series; every rank gets its XML.
@@ -176,13 +177,6 @@ XdmfSeries::XdmfSeries(MPI_Comm comm, std::filesystem::path xdmf, const std::str
     _xml.load_string(text.c_str());
   const std::string path = "/Xdmf/Domain/Grid[@CollectionType='Temporal'][@Name='" + name + "']";
   _series = _xml.select_node(path.c_str()).node();
-  if (!_series)
-  {
-    _series = domain().append_child("Grid");
-    _series.append_attribute("Name") = name.c_str();
-    _series.append_attribute("GridType") = "Collection";
-    _series.append_attribute("CollectionType") = "Temporal";
-  }
   for (auto grid : _series.children("Grid"))
     ++_steps, (void)grid;
   _h5 = HDF5Interface::open_file(comm, dolfinx::io::xdmf_utils::get_hdf5_filename(_xdmf),
@@ -205,8 +199,16 @@ pugi::xml_node XdmfSeries::step(int k) const
 
 pugi::xml_node XdmfSeries::add_step(double time)
 {
+  if (!_series)
+  {
+    // After what the Domain holds already (a mesh), as dolfinx's XDMFFile writes it.
+    _series = domain().append_child("Grid");
+    _series.append_attribute("Name") = _name.c_str();
+    _series.append_attribute("GridType") = "Collection";
+    _series.append_attribute("CollectionType") = "Temporal";
+  }
   pugi::xml_node grid = _series.append_child("Grid");
-  grid.append_attribute("Name") = _series.attribute("Name").value();
+  grid.append_attribute("Name") = _name.c_str();
   grid.append_attribute("GridType") = "Uniform";
   char t[32];
   *std::to_chars(t, t + sizeof(t) - 1, time).ptr = '\0';

@@ -47,7 +47,8 @@ public:
   int steps() const { return _steps; }
   /// The Grid of step `k` (k < steps()).
   pugi::xml_node step(int k) const;
-  /// A new step's Grid, with its Time; on disk at commit().
+  /// A new step's Grid, with its Time; on disk at commit(). The first
+  /// step's collection follows what the Domain holds by then.
   pugi::xml_node add_step(double time);
   /// The new step on disk: the HDF5 data flushed, then the XML. Collective.
   void commit();
@@ -55,9 +56,10 @@ public:
 private:
   MPI_Comm _comm;
   std::filesystem::path _xdmf;
+  std::string _name;
   hid_t _h5 = -1;
   pugi::xml_document _xml;
-  pugi::xml_node _series;
+  pugi::xml_node _series; ///< the Temporal collection, made by the first step
   int _steps = 0;
 };
 

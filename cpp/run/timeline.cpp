@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <set>
-#include <tuple>
 
 #include "io/format.h"
 
@@ -333,26 +332,6 @@ void RunState::open_frames()
 namespace
 {
 
-nlohmann::json to_json(const solver::Timings& t)
-{
-  return {t.residual, t.residuals, t.line_search_residuals, t.jacobian, t.jacobians,
-          t.border_assemble, t.factorise, t.factorisations, t.solve, t.linear_solves,
-          t.krylov_iterations, t.border};
-}
-
-solver::Timings timings_of(const nlohmann::json& j)
-{
-  solver::Timings t;
-  std::tie(t.residual, t.residuals, t.line_search_residuals, t.jacobian, t.jacobians,
-           t.border_assemble, t.factorise, t.factorisations, t.solve, t.linear_solves,
-           t.krylov_iterations, t.border)
-      = std::tuple{j[0].get<double>(), j[1].get<int>(),    j[2].get<int>(),
-                   j[3].get<double>(), j[4].get<int>(),    j[5].get<double>(),
-                   j[6].get<double>(), j[7].get<int>(),    j[8].get<double>(),
-                   j[9].get<int>(),    j[10].get<int>(),   j[11].get<double>()};
-  return t;
-}
-
 /// The layout of a checkpoint's document; another cannot be read.
 constexpr int checkpoint_format = 2;
 
@@ -398,14 +377,14 @@ void RunState::checkpoint(const Stepper::MarchState& march)
   MPI_Comm_size(comm, &ranks);
   nlohmann::json solvers;
   for (const auto& [name, t] : solver_timings())
-    solvers[name] = to_json(t);
+    solvers[name] = t;
   doc.update({{"ranks", ranks},
               {"step", phase_start.steps + march.steps},
               {"phase", phase_index},
               {"phase_name", phase->name()},
               {"phase_state", phase->save()},
               {"phase_start",
-               {to_json(phase_start.timings), phase_start.newton_iterations, phase_start.cuts,
+               {phase_start.timings, phase_start.newton_iterations, phase_start.cuts,
                 phase_start.steps, phase_start.output, MPI_Wtime() - phase_start.wall}},
               {"march", {march.steps, march.t, march.dt, march.successes}},
               {"summary", summary},
@@ -467,14 +446,19 @@ std::size_t RunState::resume(const io::CheckpointReader& checkpoint)
   const int ranks = summary["ranks"];
   summary = doc.at("summary");
   summary["ranks"] = ranks;
+  // The summary was saved before its own file was written: count that one.
+  if (auto& total = summary["checkpoints"]; total.is_null())
+    total = {{"written", 1}, {"wall_s", 0.0}};
+  else
+    total["written"] = total["written"].get<int>() + 1;
   summary["resumed"] = {{"file", checkpoint.file().string()},
                         {"ranks_before", doc.at("ranks")},
-                        {"steps_before", summary["steps"].size()}};
+                        {"steps_before", doc.at("step")}};
   wall_start = MPI_Wtime() - doc.at("wall_s").get<double>();
   stepper.newton_iterations = doc.at("newton_iterations");
   stepper.cuts = doc.at("cuts");
   for (const auto& [name, t] : doc.at("solvers").items())
-    _resumed_timings[name] = timings_of(t);
+    _resumed_timings[name] = t.get<solver::Timings>();
   t0 = doc.at("t0");
   doc.at("open_pressures").get_to(open_pressures);
   surface_pressure = doc.at("surface_pressure");
@@ -489,7 +473,8 @@ std::size_t RunState::resume(const io::CheckpointReader& checkpoint)
   const auto& m = doc.at("march");
   stepper.resume = Stepper::MarchState{m[0], m[1], m[2], m[3]};
   const auto& p = doc.at("phase_start");
-  phase_start = {timings_of(p[0]), p[1], p[2], p[3], p[4], MPI_Wtime() - p[5].get<double>()};
+  phase_start = {p[0].get<solver::Timings>(), p[1], p[2], p[3], p[4],
+                 MPI_Wtime() - p[5].get<double>()};
   return doc.at("phase");
 }
 

@@ -106,6 +106,38 @@ Timings Timings::operator-(const Timings& o) const
   return d;
 }
 
+void to_json(nlohmann::json& j, const Timings& t)
+{
+  j = {{"residual_s", t.residual},
+       {"residuals", t.residuals},
+       {"line_search_residuals", t.line_search_residuals},
+       {"jacobian_s", t.jacobian},
+       {"jacobians", t.jacobians},
+       {"border_assemble_s", t.border_assemble},
+       {"factorise_s", t.factorise},
+       {"factorisations", t.factorisations},
+       {"solve_s", t.solve},
+       {"linear_solves", t.linear_solves},
+       {"krylov_iterations", t.krylov_iterations},
+       {"border_s", t.border}};
+}
+
+void from_json(const nlohmann::json& j, Timings& t)
+{
+  j.at("residual_s").get_to(t.residual);
+  j.at("residuals").get_to(t.residuals);
+  j.at("line_search_residuals").get_to(t.line_search_residuals);
+  j.at("jacobian_s").get_to(t.jacobian);
+  j.at("jacobians").get_to(t.jacobians);
+  j.at("border_assemble_s").get_to(t.border_assemble);
+  j.at("factorise_s").get_to(t.factorise);
+  j.at("factorisations").get_to(t.factorisations);
+  j.at("solve_s").get_to(t.solve);
+  j.at("linear_solves").get_to(t.linear_solves);
+  j.at("krylov_iterations").get_to(t.krylov_iterations);
+  j.at("border_s").get_to(t.border);
+}
+
 void set_petsc_options(const std::vector<std::pair<std::string, std::string>>& options,
                        Jacobian jacobian)
 {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <dolfinx/la/Vector.h>
+#include <nlohmann/json.hpp>
 #include <petscksp.h>
 
 #include "solver/anderson.h"
@@ -87,6 +88,10 @@ struct Timings
   Timings& operator+=(const Timings& o);
   Timings operator-(const Timings& o) const;
 };
+
+/// Timings as JSON, by name (the summary's profile, a checkpoint), and back.
+void to_json(nlohmann::json& j, const Timings& t);
+void from_json(const nlohmann::json& j, Timings& t);
 
 /// PETSc options in force: defaults (MUMPS LU; with Jacobian::krylov
 /// right-preconditioned GMRES on it), overridden by `options` in order,
