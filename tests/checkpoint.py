@@ -2,7 +2,8 @@
 and resumed from its last checkpoint, on the same or another rank count,
 ends as the uninterrupted run does; a kill while a checkpoint is being
 written leaves the previous one usable; foreign and damaged checkpoints are
-refused.
+refused, and so is a damaged field file, whose series starts anew once it
+is moved aside.
 
 usage: checkpoint.py NCT COMPARE_SUMMARIES OUT RANKS_FIRST RANKS_RESUME SCENE
                      [KEY=VALUE...]
@@ -132,4 +133,30 @@ if same:
         text = nct_run(ranks_resume, bad, expect=2, resume=True)
         assert "is damaged" in text, text
         print(f"refused ({damage}): " + error_line(text))
+
+    # A field file a kill left unreadable: the resume refuses it, naming it;
+    # with its series moved aside, the series starts anew at the checkpoint
+    # (the older of the two kept: steps are left to write).
+    xdmf = sorted(f for f in os.listdir(ref) if f.endswith(".xdmf") and "geometry" not in f
+                  and not f.startswith("fibre"))
+    if xdmf:
+        bad = f"{out}/damaged_fields"
+        shutil.copytree(ref, bad)
+        os.remove(f"{bad}/summary.json")
+        older = sorted(f for f in os.listdir(f"{bad}/checkpoint") if f.endswith(".h5"))[0]
+        open(f"{bad}/checkpoint/latest", "w").write(older + "\n")
+        h5 = f"{bad}/{xdmf[0][:-len('.xdmf')]}.h5"
+        data = open(h5, "rb").read()
+        open(h5, "wb").write(data[: len(data) // 3])
+        text = nct_run(ranks_resume, bad, expect=2, resume=True)
+        assert "cannot continue the fields file" in text and xdmf[0] in text, text
+        print("refused (a damaged field file): " + error_line(text))
+        os.remove(h5)
+        os.remove(f"{bad}/{xdmf[0]}")
+        nct_run(ranks_resume, bad, resume=True)
+        times = [float(t) for t in re.findall(r'<Time Value="([^"]+)"', open(f"{bad}/{xdmf[0]}").read())]
+        march = json.load(open(f"{bad}/summary.json"))["resumed"]
+        assert times and min(times) > 0, f"{xdmf[0]} did not start anew: {times[:3]}"
+        print(f"{xdmf[0]} moved aside: starts anew at t = {min(times)} ms "
+              f"({len(times)} steps; resumed from {march['file']})")
 print("checkpoint: ok")
