@@ -1,14 +1,10 @@
 #include "io/moving_fields.h"
 
-#include <charconv>
-#include <numeric>
-#include <sstream>
+#include <span>
 
 #include <dolfinx/common/IndexMap.h>
 #include <dolfinx/common/MPI.h>
 #include <dolfinx/fem/DofMap.h>
-#include <dolfinx/io/HDF5Interface.h>
-#include <dolfinx/io/xdmf_mesh.h>
 #include <dolfinx/io/xdmf_utils.h>
 #include <pugixml.hpp>
 
@@ -16,14 +12,6 @@
 
 namespace nct::io
 {
-
-using dolfinx::io::HDF5Interface;
-
-struct MovingFields::File
-{
-  std::unique_ptr<XdmfSeries> series;
-  int topology = -1; ///< the step whose topology later steps include; -1: none yet
-};
 
 namespace
 {
@@ -60,11 +48,9 @@ std::vector<double> node_values(const dolfinx::fem::Function<double>& f,
 
 MovingFields::MovingFields(const RunFolder& folder,
                            std::shared_ptr<const dolfinx::mesh::Mesh> mesh)
-    : _folder(folder), _mesh(std::move(mesh))
+    : _mesh(mesh), _files(folder.dir(), mesh)
 {
 }
-
-MovingFields::~MovingFields() = default;
 
 void MovingFields::write(const dolfinx::fem::Function<double>& f,
                          const dolfinx::fem::Function<double>& displacement, double time)
@@ -80,27 +66,14 @@ void MovingFields::write(const dolfinx::fem::Function<double>& f,
 
   MPI_Comm comm = _mesh->comm();
   const bool mpi_io = dolfinx::MPI::size(comm) > 1;
-  auto it = _files.find(f.name);
-  File& file = it == _files.end() ? open(f.name) : *it->second;
-  XdmfSeries& series = *file.series;
-  pugi::xml_node grid = series.add_step(time);
-
-  // The topology: written in the first step (on this partition), included by the others.
+  XdmfSeries& series = _files[f.name];
   const std::string step = "/Step/" + std::to_string(series.steps());
-  if (file.topology < 0)
-  {
-    const int tdim = _mesh->topology().dim();
-    std::vector<std::int32_t> cells(_mesh->topology().index_map(tdim)->size_local());
-    std::iota(cells.begin(), cells.end(), 0);
-    dolfinx::io::xdmf_mesh::add_topology_data(comm, grid, series.h5(), step, _mesh->topology(),
-                                              geometry, tdim, cells);
-    file.topology = series.steps();
-  }
+  pugi::xml_node grid = series.add_step(time);
+  // The topology: written in the first step (on this partition), included by the others.
+  if (series.mesh.empty())
+    series.add_mesh_to_step(grid, *_mesh, false);
   else
-    grid.append_child("xi:include").append_attribute("xpointer")
-        = ("xpointer(/Xdmf/Domain/Grid/Grid[" + std::to_string(file.topology + 1)
-           + "]/Topology)")
-              .c_str();
+    series.include_mesh(grid, "Topology");
 
   const std::int64_t offset = geometry.index_map()->local_range()[0];
   const std::int64_t num_nodes = geometry.index_map()->size_global();
@@ -121,34 +94,8 @@ void MovingFields::write(const dolfinx::fem::Function<double>& f,
   series.commit();
 }
 
-MovingFields::File& MovingFields::open(const std::string& name, int keep)
-{
-  auto& file = _files[name];
-  file = std::make_unique<File>();
-  file->series = std::make_unique<XdmfSeries>(_mesh->comm(), _folder.dir() / (name + ".xdmf"),
-                                              name, keep);
-  return *file;
-}
+nlohmann::json MovingFields::state() const { return _files.state(); }
 
-nlohmann::json MovingFields::state() const
-{
-  nlohmann::json files = nlohmann::json::object();
-  for (const auto& [name, file] : _files)
-    files[name] = file->series->steps();
-  return {{"layout", layout_fingerprint(*_mesh)}, {"files", files}};
-}
-
-void MovingFields::resume(const nlohmann::json& state)
-{
-  const bool same_layout = state.at("layout").get<std::uint64_t>() == layout_fingerprint(*_mesh);
-  for (const auto& [name, steps] : state.at("files").items())
-  {
-    File& file = open(name, steps.get<int>());
-    // The last topology written, if this partition lays the mesh out alike.
-    for (int k = file.series->steps() - 1; same_layout && k >= 0 && file.topology < 0; --k)
-      if (file.series->step(k).child("Topology"))
-        file.topology = k;
-  }
-}
+void MovingFields::resume(const nlohmann::json& state) { _files.resume(state); }
 
 } // namespace nct::io

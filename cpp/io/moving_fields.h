@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/output.h"
+#include "io/xdmf_series.h"
 
 namespace nct::io
 {
@@ -26,7 +27,6 @@ class MovingFields
 {
 public:
   MovingFields(const RunFolder& folder, std::shared_ptr<const dolfinx::mesh::Mesh> mesh);
-  ~MovingFields();
   MovingFields(const MovingFields&) = delete;
   MovingFields& operator=(const MovingFields&) = delete;
 
@@ -43,11 +43,8 @@ public:
   void resume(const nlohmann::json& state);
 
 private:
-  struct File; ///< a function's series and the step holding its topology
-  File& open(const std::string& name, int keep = -1);
-  const RunFolder& _folder;
   std::shared_ptr<const dolfinx::mesh::Mesh> _mesh;
-  std::map<std::string, std::unique_ptr<File>> _files;
+  XdmfFiles _files;
 };
 
 } // namespace nct::io

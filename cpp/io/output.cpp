@@ -1,13 +1,9 @@
 #include "io/output.h"
 
 #include <iostream>
-#include <numeric>
 
-#include <dolfinx/common/IndexMap.h>
 #include <dolfinx/io/xdmf_function.h>
 #include <dolfinx/io/xdmf_mesh.h>
-
-#include "io/xdmf_series.h"
 
 namespace nct::io
 {
@@ -62,61 +58,28 @@ void RunFolder::log(const std::string& line)
   _log << line << std::endl;
 }
 
-/// A function's series and the Grid holding the mesh its steps include.
-struct Fields::File
-{
-  std::unique_ptr<XdmfSeries> series;
-  std::string mesh; ///< the Grid's XPath; empty: none yet with this partition's layout
-};
-
 Fields::Fields(const RunFolder& folder, std::shared_ptr<const dolfinx::mesh::Mesh> mesh,
                std::shared_ptr<const dolfinx::fem::FunctionSpace> coordinate_space)
-    : _folder(folder), _mesh(std::move(mesh)),
-      _coordinate_space(std::move(coordinate_space))
+    : _mesh(mesh), _coordinate_space(std::move(coordinate_space)), _files(folder.dir(), mesh)
 {
-}
-
-Fields::~Fields() = default;
-
-Fields::File& Fields::open(const std::string& name, int keep)
-{
-  auto& file = _files[name];
-  file = std::make_unique<File>();
-  file->series = std::make_unique<XdmfSeries>(_mesh->comm(), _folder.dir() / (name + ".xdmf"),
-                                              name, keep);
-  return *file;
 }
 
 void Fields::write(const dolfinx::fem::Function<double>& f, double time)
 {
-  auto it = _files.find(f.name);
-  File& file = it == _files.end() ? open(f.name) : *it->second;
-  XdmfSeries& series = *file.series;
+  XdmfSeries& series = _files[f.name];
   MPI_Comm comm = _mesh->comm();
-  if (file.mesh.empty() && series.steps() == 0)
+  if (series.mesh.empty() && series.steps() == 0)
   {
     // The first step's mesh: a Grid of its own, as dolfinx's XDMFFile writes it.
     pugi::xml_node domain = series.domain();
     dolfinx::io::xdmf_mesh::add_mesh(comm, domain, series.h5(), *_mesh, "mesh");
-    file.mesh = "/Xdmf/Domain/Grid[@Name='mesh'][1]";
+    series.mesh = "/Xdmf/Domain/Grid[@Name='mesh'][1]";
   }
   pugi::xml_node grid = series.add_step(time);
-  if (file.mesh.empty())
-  {
-    // Resumed on a partition that lays the mesh out otherwise: in this step.
-    const std::string path = "/Mesh/mesh_" + std::to_string(series.steps());
-    const int tdim = _mesh->topology().dim();
-    std::vector<std::int32_t> cells(_mesh->topology().index_map(tdim)->size_local());
-    std::iota(cells.begin(), cells.end(), 0);
-    dolfinx::io::xdmf_mesh::add_topology_data(comm, grid, series.h5(), path, _mesh->topology(),
-                                              _mesh->geometry(), tdim, cells);
-    dolfinx::io::xdmf_mesh::add_geometry_data(comm, grid, series.h5(), path, _mesh->geometry());
-    file.mesh = "/Xdmf/Domain/Grid[@CollectionType='Temporal']/Grid["
-                + std::to_string(series.steps() + 1) + "]";
-  }
+  if (series.mesh.empty()) // resumed on a partition that lays the mesh out otherwise
+    series.add_mesh_to_step(grid, *_mesh, true);
   else
-    grid.append_child("xi:include").append_attribute("xpointer")
-        = ("xpointer(" + file.mesh + "/*[self::Topology or self::Geometry])").c_str();
+    series.include_mesh(grid, "*[self::Topology or self::Geometry]");
 
   // Scalar or vector, on the coordinate element's nodes (P1) or not.
   const auto& element = *f.function_space()->element();
@@ -142,31 +105,8 @@ void Fields::write(const dolfinx::fem::Function<double>& f, double time)
   series.commit();
 }
 
-nlohmann::json Fields::state() const
-{
-  nlohmann::json files = nlohmann::json::object();
-  for (const auto& [name, file] : _files)
-    files[name] = file->series->steps();
-  return {{"layout", layout_fingerprint(*_mesh)}, {"files", files}};
-}
+nlohmann::json Fields::state() const { return _files.state(); }
 
-void Fields::resume(const nlohmann::json& state)
-{
-  const bool same_layout = state.at("layout").get<std::uint64_t>() == layout_fingerprint(*_mesh);
-  for (const auto& [name, steps] : state.at("files").items())
-  {
-    File& file = open(name, steps.get<int>());
-    // The mesh the last step holds or includes, if this partition lays it out alike.
-    if (const int k = file.series->steps(); same_layout && k > 0)
-    {
-      const std::string pointer
-          = file.series->step(k - 1).child("xi:include").attribute("xpointer").value();
-      file.mesh = pointer.empty()
-                      ? "/Xdmf/Domain/Grid[@CollectionType='Temporal']/Grid["
-                            + std::to_string(k) + "]"
-                      : pointer.substr(9, pointer.find("/*[") - 9); // xpointer(<mesh>/*[...])
-    }
-  }
-}
+void Fields::resume(const nlohmann::json& state) { _files.resume(state); }
 
 } // namespace nct::io

@@ -11,6 +11,8 @@
 #include <mpi.h>
 #include <nlohmann/json.hpp>
 
+#include "io/xdmf_series.h"
+
 namespace nct::io
 {
 
@@ -48,7 +50,6 @@ class Fields
 public:
   Fields(const RunFolder& folder, std::shared_ptr<const dolfinx::mesh::Mesh> mesh,
          std::shared_ptr<const dolfinx::fem::FunctionSpace> coordinate_space);
-  ~Fields();
   /// Append `f` at `time` to <f.name>.xdmf. Collective.
   void write(const dolfinx::fem::Function<double>& f, double time);
   /// What a checkpoint keeps: each file's steps and the mesh's layout.
@@ -59,13 +60,10 @@ public:
   void resume(const nlohmann::json& state);
 
 private:
-  struct File;
-  File& open(const std::string& name, int keep = -1);
-  const RunFolder& _folder;
   std::shared_ptr<const dolfinx::mesh::Mesh> _mesh;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _coordinate_space;
   std::shared_ptr<const dolfinx::fem::FunctionSpace> _scalar_space; ///< made on first use
-  std::map<std::string, std::unique_ptr<File>> _files;
+  XdmfFiles _files;
 };
 
 } // namespace nct::io

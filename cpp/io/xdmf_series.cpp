@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <numeric>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -9,6 +10,7 @@
 #include <dolfinx/common/IndexMap.h>
 #include <dolfinx/common/MPI.h>
 #include <dolfinx/io/HDF5Interface.h>
+#include <dolfinx/io/xdmf_mesh.h>
 #include <dolfinx/io/xdmf_utils.h>
 
 #include "io/checkpoint.h"
@@ -179,6 +181,14 @@ XdmfSeries::XdmfSeries(MPI_Comm comm, std::filesystem::path xdmf, const std::str
   _series = _xml.select_node(path.c_str()).node();
   for (auto grid : _series.children("Grid"))
     ++_steps, (void)grid;
+  // The mesh the last step holds or includes (xpointer(<mesh>/<what>)).
+  if (_steps > 0)
+  {
+    pugi::xml_node last = step(_steps - 1);
+    const std::string pointer = last.child("xi:include").attribute("xpointer").value();
+    mesh = last.child("Topology") ? step_path(_steps - 1)
+                                  : pointer.substr(9, pointer.rfind('/') - 9);
+  }
   _h5 = HDF5Interface::open_file(comm, dolfinx::io::xdmf_utils::get_hdf5_filename(_xdmf),
                                  fresh ? "w" : "a", dolfinx::MPI::size(comm) > 1);
 }
@@ -216,6 +226,31 @@ pugi::xml_node XdmfSeries::add_step(double time)
   return grid;
 }
 
+std::string XdmfSeries::step_path(int k) const
+{
+  return "/Xdmf/Domain/Grid[@CollectionType='Temporal']/Grid[" + std::to_string(k + 1) + "]";
+}
+
+void XdmfSeries::add_mesh_to_step(pugi::xml_node grid, const dolfinx::mesh::Mesh& m,
+                                  bool geometry)
+{
+  const std::string path = "/Step/" + std::to_string(_steps);
+  const int tdim = m.topology().dim();
+  std::vector<std::int32_t> cells(m.topology().index_map(tdim)->size_local());
+  std::iota(cells.begin(), cells.end(), 0);
+  dolfinx::io::xdmf_mesh::add_topology_data(_comm, grid, _h5, path, m.topology(), m.geometry(),
+                                            tdim, cells);
+  if (geometry)
+    dolfinx::io::xdmf_mesh::add_geometry_data(_comm, grid, _h5, path, m.geometry());
+  mesh = step_path(_steps);
+}
+
+void XdmfSeries::include_mesh(pugi::xml_node grid, const std::string& what)
+{
+  grid.append_child("xi:include").append_attribute("xpointer")
+      = ("xpointer(" + mesh + "/" + what + ")").c_str();
+}
+
 void XdmfSeries::commit()
 {
   // The data on disk before the XML that refers to it.
@@ -226,6 +261,50 @@ void XdmfSeries::commit()
     std::ostringstream text;
     _xml.save(text, "  ");
     write_atomic(_xdmf, text.str());
+  }
+}
+
+XdmfFiles::XdmfFiles(std::filesystem::path dir, std::shared_ptr<const dolfinx::mesh::Mesh> mesh)
+    : _dir(std::move(dir)), _mesh(std::move(mesh))
+{
+}
+
+XdmfSeries& XdmfFiles::open(const std::string& name, int keep)
+{
+  auto& series = _series[name];
+  series = std::make_unique<XdmfSeries>(_mesh->comm(), _dir / (name + ".xdmf"), name, keep);
+  return *series;
+}
+
+XdmfSeries& XdmfFiles::operator[](const std::string& name)
+{
+  auto it = _series.find(name);
+  return it == _series.end() ? open(name, -1) : *it->second;
+}
+
+nlohmann::json XdmfFiles::state() const
+{
+  nlohmann::json files = nlohmann::json::object();
+  for (const auto& [name, series] : _series)
+    files[name] = series->steps();
+  return {{"layout", layout()}, {"files", files}};
+}
+
+std::uint64_t XdmfFiles::layout() const
+{
+  if (!_layout)
+    _layout = layout_fingerprint(*_mesh);
+  return *_layout;
+}
+
+void XdmfFiles::resume(const nlohmann::json& state)
+{
+  const bool same_layout = state.at("layout").get<std::uint64_t>() == layout();
+  for (const auto& [name, steps] : state.at("files").items())
+  {
+    XdmfSeries& series = open(name, steps.get<int>());
+    if (!same_layout)
+      series.mesh.clear();
   }
 }
 

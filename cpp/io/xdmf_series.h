@@ -5,11 +5,15 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include <dolfinx/mesh/Mesh.h>
 #include <hdf5.h>
 #include <mpi.h>
+#include <nlohmann/json.hpp>
 #include <pugixml.hpp>
 
 namespace nct::io
@@ -47,11 +51,25 @@ public:
   int steps() const { return _steps; }
   /// The Grid of step `k` (k < steps()).
   pugi::xml_node step(int k) const;
+  /// The XPath of step `k`'s Grid.
+  std::string step_path(int k) const;
   /// A new step's Grid, with its Time; on disk at commit(). The first
   /// step's collection follows what the Domain holds by then.
   pugi::xml_node add_step(double time);
   /// The new step on disk: the HDF5 data flushed, then the XML. Collective.
   void commit();
+
+  /// The XPath of the Grid holding the mesh the steps include (its
+  /// Topology, and Geometry if it holds one); empty: none yet on this
+  /// partition's layout. A resumed series takes its last step's.
+  std::string mesh;
+  /// The mesh's topology (all owned cells), and its geometry if
+  /// `geometry`, into the new step's `grid` (HDF5 /Step/<k>/), which then
+  /// holds the mesh. Collective.
+  void add_mesh_to_step(pugi::xml_node grid, const dolfinx::mesh::Mesh& m, bool geometry);
+  /// Include in `grid` the held mesh's children `what` (an XPath step:
+  /// "Topology", or "*[self::Topology or self::Geometry]").
+  void include_mesh(pugi::xml_node grid, const std::string& what);
 
 private:
   MPI_Comm _comm;
@@ -61,6 +79,31 @@ private:
   pugi::xml_document _xml;
   pugi::xml_node _series; ///< the Temporal collection, made by the first step
   int _steps = 0;
+};
+
+/// The series a writer keeps, one file <name>.xdmf per function in a
+/// folder, on one mesh: what a checkpoint keeps of them (each file's steps
+/// and the mesh's partition layout) and how a resumed run continues them.
+class XdmfFiles
+{
+public:
+  XdmfFiles(std::filesystem::path dir, std::shared_ptr<const dolfinx::mesh::Mesh> mesh);
+  /// The series of `name`: made new on first use. Collective then.
+  XdmfSeries& operator[](const std::string& name);
+  /// Collective.
+  nlohmann::json state() const;
+  /// Continue the files as `state` left them (XdmfSeries with `keep`); on
+  /// another partition layout each writes its mesh again. Collective.
+  void resume(const nlohmann::json& state);
+
+private:
+  XdmfSeries& open(const std::string& name, int keep);
+  /// layout_fingerprint(mesh), computed once (the numbering never changes).
+  std::uint64_t layout() const;
+  std::filesystem::path _dir;
+  mutable std::optional<std::uint64_t> _layout;
+  std::shared_ptr<const dolfinx::mesh::Mesh> _mesh;
+  std::map<std::string, std::unique_ptr<XdmfSeries>> _series;
 };
 
 } // namespace nct::io
