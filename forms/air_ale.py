@@ -29,6 +29,10 @@ Forms:
 - force_x, force_y, force_z: the force of the air on the fluid-solid
   interface, -integral sigma n da (navier_stokes.wall_traction), for a
   check of the consistent reaction the coupled solver moves onto the solid;
+- traction_power: the power the air's stress delivers to the solid there,
+  -integral sigma n . u da (u the air's velocity, the wall's by no slip):
+  the work of the air on the solid from its own stress, independent of the
+  reaction (the coupled puff's energy balance, cpp/run/air_block.h);
 - mesh_jacobian (expression): det F per cell, whose sign shows a folded cell.
 
 `degree` and `quadrature_degree` are set by the CMake wrapper.
@@ -93,6 +97,9 @@ force_x = -traction[0] * ds(INTERFACE)
 force_y = -traction[1] * ds(INTERFACE)
 force_z = -traction[2] * ds(INTERFACE)
 
-forms = [R, J, J_mesh, force_x, force_y, force_z]
+# The power the air's stress delivers to the solid [W = N mm/ms] (meshed part).
+traction_power = -dot(traction, u) * ds(INTERFACE)
+
+forms = [R, J, J_mesh, force_x, force_y, force_z, traction_power]
 mesh_jacobian = det(F)
 expressions = [(mesh_jacobian, [[0.25, 0.25, 0.25]])]

@@ -15,7 +15,7 @@ symmetry planes through the axis, a fixed cut plane through x0) is
 the minus sign because N points out of the solid, i.e. into the cavity.
 
 Reference: J. Bonet, R. D. Wood, Nonlinear Continuum Mechanics for Finite
-Element Analysis, 2nd ed. 2008, sec. 8.4 (follower pressure); design.md sec. 6.
+Element Analysis, 2nd ed. 2008, sec. 8.4 (follower pressure); docs/physics.md sec. 6.
 """
 from ufl import SpatialCoordinate, det, dot, inv
 

@@ -13,7 +13,7 @@ gives Psi_iso; the formulation adds the volumetric U(J) of volumetric.py
 (a mixed formulation integrates it differently).
 
 Reference: G. A. Holzapfel, T. C. Gasser, R. W. Ogden, J. Elasticity 61 (2000)
-1-48, eq. (53)-(55); design.md section 5.
+1-48, eq. (53)-(55); docs/physics.md section 5.
 """
 from ufl import conditional, dot, exp, gt, min_value, tr
 

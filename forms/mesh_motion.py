@@ -22,7 +22,7 @@ chi = 0 switches the stiffening off; Stein et al. recommend chi of about
 
 Reference: K. Stein, T. E. Tezduyar, R. Benney, Mesh moving techniques for
 fluid-structure interactions with large displacements, J. Appl. Mech. 70
-(2003) 58-63, eq. (9)-(11); design.md section 8.
+(2003) 58-63, eq. (9)-(11); docs/physics.md section 8.
 """
 from ufl import (Coefficient, Constant, JacobianDeterminant, Measure, TestFunction,
                  TrialFunction, VectorElement, derivative, div, grad, inner, sym,

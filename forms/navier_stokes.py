@@ -48,7 +48,7 @@ G. Scovazzi, Comput. Methods Appl. Mech. Engrg. 197 (2007) 173-201, eq.
 Vignon-Clementel, A. L. Marsden, Comput. Mech. 48 (2011) 277-291; J. Donea,
 A. Huerta, J.-Ph. Ponthot, A. Rodriguez-Ferran, Arbitrary Lagrangian-Eulerian
 methods, Encyclopedia of Computational Mechanics, Wiley 2004, sec. 3
-(the ALE equations on the reference mesh); design.md section 8.
+(the ALE equations on the reference mesh); docs/physics.md section 8.
 """
 from ufl import (Identity, JacobianInverse, as_vector, det, dot, grad, inner, inv, min_value,
                  sqrt, sym, tr)

@@ -6,7 +6,7 @@ shear modulus mu = 2 C10 at small strain. This module gives Psi_iso; the
 formulation adds the volumetric U(J) of volumetric.py.
 
 Reference: G. A. Holzapfel, Nonlinear Solid Mechanics, Wiley 2000, eq. (6.148);
-design.md section 5.
+docs/physics.md section 5.
 """
 from ufl import tr
 

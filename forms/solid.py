@@ -1,12 +1,14 @@
-"""Formulation `solid`: quasi-static finite-strain solid, unknown u only.
+"""Formulation `solid`: the finite-strain solid, unknown u; quasi-static
+forms, and the dynamic balance of the generalised-alpha step (below).
 
 Find u such that, for every admissible v,
 
     sum_laws integral_{Omega_law} P_law(F) : grad v dX            (internal work)
   + sum_c integral_{wall of cavity c} p_c J F^-T N . v dA        (cavity pressures)
-  + integral_{loaded surface} p_surface f J F^-T N . v dA = 0    (surface pressure)
+  + integral_{pressed surface} p_press f J F^-T N . v dA = 0    (the press)
 
-with f(X) the shape of the surface pressure (1 for a uniform one). A
+with f(X) the shape of the press (1 for a uniform one): the press phase's
+pressure and a prescribed puff's p(r, t) act through it. A
 closed cavity's pressure p_c is a Lagrange multiplier of V_c(u) = target;
 its border of the Newton system (cpp/cavity) is dR/dp_c = `cavity_load_c`
 (the residual's cavity term at unit pressure) and dV_c/du = `dvolume_c`.
@@ -54,7 +56,7 @@ import volumetric
 
 # Integration tags, shared with cpp/solid/problem.cpp.
 HGO, NEO_HOOKEAN, SAINT_VENANT_KIRCHHOFF, COMPRESSIBLE_NEO_HOOKEAN = 1, 2, 3, 4  # cell tags: law
-CAVITY_1_WALL, SURFACE_LOAD, CAVITY_2_WALL, SUPPORT = 1, 2, 3, 4  # facet tags: load
+CAVITY_1_WALL, PRESS, CAVITY_2_WALL, SUPPORT = 1, 2, 3, 4  # facet tags: load
 
 element = VectorElement("Lagrange", tetrahedron, degree)  # noqa: F821 (set by the wrapper)
 cell_scalar = FiniteElement("DG", tetrahedron, 0)
@@ -78,8 +80,8 @@ fibre_2 = Coefficient(cell_vector)  # second fibre family (unit or zero)
 # Loads [MPa]: up to two cavities (the merged one, or aqueous and vitreous)
 p_cavity_1 = Constant(tetrahedron)
 p_cavity_2 = Constant(tetrahedron)
-p_surface = Constant(tetrahedron)
-surface_profile = Coefficient(nodal_scalar)  # shape f of the surface pressure [-]
+p_press = Constant(tetrahedron)
+press_profile = Coefficient(nodal_scalar)  # shape f of the press [-]
 # The cut's lid per cavity, A_lid / A_cut (support.py; 0: no lid) [-]
 lid_1 = Constant(tetrahedron)
 lid_2 = Constant(tetrahedron)
@@ -115,7 +117,7 @@ def balance(w):
             + cavity.follower_pressure(p_cavity_2, Fw, N, v) * ds(CAVITY_2_WALL)
             + (support.lid_pressure(p_cavity_1, lid_1, N, v)
                + support.lid_pressure(p_cavity_2, lid_2, N, v)) * ds(SUPPORT)
-            + cavity.follower_pressure(p_surface * surface_profile, Fw, N, v) * ds(SURFACE_LOAD))
+            + cavity.follower_pressure(p_press * press_profile, Fw, N, v) * ds(PRESS))
 
 
 F = kinematics.deformation_gradient(u)

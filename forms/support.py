@@ -17,7 +17,7 @@ cornea, fitted to in-vivo Corvis deformations: S. Kling et al., PLoS ONE
 9 (2014) e104904, table 3.
 
 The lid. The model is cut by a plane through x0, and the cavity behind
-the eye is closed there by a lid of area A_lid (design.md section 6)
+the eye is closed there by a lid of area A_lid (docs/physics.md section 6)
 that stands for the eye's posterior cap. The lid moves with the cut
 face's mean displacement w, so a whole-eye translation neither changes
 the cavity's volume nor lets the pressure push the model off its

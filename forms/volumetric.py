@@ -7,7 +7,7 @@ with kappa the bulk modulus [MPa]. The reference study writes (1/k)(J-1)^2;
 as J -> 0 (no spurious collapse of a compressed element) and is the
 standard choice of e.g. FEBio's uncoupled materials.
 
-Reference: J. C. Simo, R. L. Taylor, CMAME 85 (1991) 273-310; design.md section 5.
+Reference: J. C. Simo, R. L. Taylor, CMAME 85 (1991) 273-310; docs/physics.md section 5.
 """
 from ufl import ln
 

@@ -2,7 +2,7 @@
 """How far a rigid-eye run's apex pressure is from the measured pulse.
 
 Reads RUN/steps.csv (t_ms, apex_pressure_mmHg) of a puff.load = "air" run
-with air.inlet_history = "pulse", and the pulse's descriptors from its
+with inlet.history = "pulse", and the pulse's descriptors from its
 resolved scene (RUN/scene.toml: puff.peak, rise_rate, fall_rate,
 pulse_duration), and prints: the computed and measured peak, the mean
 10-90 % rates of both edges of either, the largest and RMS difference over
@@ -49,7 +49,7 @@ def edges(t, p):
 def main(run):
     with open(os.path.join(run, "scene.toml"), "rb") as f:
         scene = tomllib.load(f)
-    puff, air = scene["puff"], scene["air"]
+    puff, inlet = scene["puff"], scene["inlet"]
     peak = puff["peak"]
     rise, fall = peak / puff["rise_rate"], peak / puff["fall_rate"]
     hold = puff["pulse_duration"] - rise - fall
@@ -68,7 +68,7 @@ def main(run):
     rms = math.sqrt(sum(d * d for d in diff) / len(diff))
     print(f"largest difference {diff[k]:+.2f} mmHg at {t[k]:.2f} ms; RMS {rms:.2f} mmHg "
           f"({100 * rms / peak:.1f} % of the peak)")
-    u = air["inlet_velocity"]
+    u = inlet["velocity"]
     print(f"inlet {u:.1f} m/s; for the measured peak: {u * math.sqrt(peak / computed[0]):.1f} m/s")
 
 

@@ -4,7 +4,7 @@
 Prints a Markdown table: every DCR parameter of RUN/summary.json with the
 normal mean and SD and the run's z-score, (run - mean) / SD.
 
-Sources (design.md section 9): 1,304 normal eyes, Corvis ST (PMC7001013;
+Sources (docs/physics.md section 9): 1,304 normal eyes, Corvis ST (PMC7001013;
 IOP 16.8 +- 2.9 mmHg); the whole-eye movement's time: 68 healthy eyes
 (doi:10.21203/rs.3.rs-9226844/v1). Times are on the device's clock, whose
 zero lies an unknown time before a run's pulse onset; the intervals'

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""What accuracy costs in time (design.md section 11) on a puff scene.
+"""What accuracy costs in time (docs/physics.md section 11) on a puff scene.
 
 Runs a scene (scenes/default.toml unless --scene) over the knobs that trade accuracy for time, one
 at a time from the default (3 layers, P2, dt 0.5 ms): elements through the

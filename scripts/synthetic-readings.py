@@ -13,7 +13,7 @@ Writes into OUT:
   displacement from its t = 0 profile at the given times and x, plus noise
   of SD --sd-profile;
 - biomarkers.toml: [[observation]] tables of the run's deflection
-  amplitude (SD 0.08 mm, design.md section 9) and A1 time (SD 0.2 ms),
+  amplitude (SD 0.08 mm, docs/physics.md section 9) and A1 time (SD 0.2 ms),
   each with noise of its SD.
 The noise defaults are the Corvis ST's precision as we read it: 0.02 mm per
 frame (about one pixel of its camera) for the curves and profiles.

@@ -74,10 +74,7 @@ print(f"uninterrupted: {steps_total} dynamic steps, checkpoints kept {written}")
 # Killed after the first checkpoint (a march's boundary: the rest may hold
 # none): its step in the run's numbering less the quasi-static steps.
 recorded = json.load(open(f"{ref}/summary.json"))["steps"]
-if isinstance(recorded, int):  # the air alone: its steps, none quasi-static
-    steps_total, quasi_static = recorded, 0
-else:
-    quasi_static = len(recorded) - steps_total
+quasi_static = len(recorded) - steps_total
 first = int(re.search(r"^checkpoint: step (\d+)", open(f"{ref}/run.log").read(), re.M)[1])
 kill = rng.randrange(first - quasi_static + 1, steps_total)
 killed = f"{out}/killed"

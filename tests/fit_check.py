@@ -15,6 +15,12 @@ resume: the recovery's fit interrupted (SIGINT) after its fourth forward
   run, then run again: it exits 130 leaving no run behind, then finishes
   with exactly the uninterrupted fit's values (REFERENCE: the recovery's
   folder) and redoes no finished run.
+fallback: the corneal C10 from the recovery's apex curve (REFERENCE), each
+  forward run above 0.0504 MPa made to diverge (NCT_TEST_DIVERGE_ABOVE): at
+  the start (0.05) the forward difference's neighbour (0.0505, a 1 % step on
+  the log scale) diverges, the fit takes the backward difference instead,
+  says so in the iteration line and in fit.json, and goes on through its 2
+  iterations (it used to stop with FAILURE at the start).
 ranks: the recovery's fit with each forward run on 2 ranks: the values
   of the fit on 1 rank (REFERENCE) within 2 % of their standard errors.
   (The forward runs agree to 1e-8 on 2 ranks only at full Newton's
@@ -122,6 +128,24 @@ elif mode == "correlation":
           % (width["free"], width["prior"], free["correlation"][0][1],
              prior["correlation"][0][1]))
     assert width["prior"] < width["free"] / 3
+elif mode == "fallback":
+    shutil.copytree(os.path.join(reference, "data"), os.path.join(out, "data"))
+    path = write_fit(out, ("c10_cornea",), [("curve", "apex.csv")],
+                     runs="jobs = 2\nmax_iterations = 2")
+    folder = os.path.join(out, "fit")
+    r = subprocess.run([nct, "fit", path, "--out", folder], capture_output=True, text=True,
+                       env=dict(os.environ, NCT_TEST_DIVERGE_ABOVE="material.cornea.c10=0.0504"))
+    print(r.stdout, r.stderr)
+    # It cannot reach the truth (0.07) above the divergence: it goes on to
+    # its 2 iterations (exit 3, "max_iterations"), not FAILURE at the start.
+    assert r.returncode == 3, f"nct fit exited with {r.returncode}"
+    note = "c10_cornea: a backward difference (the run at 0.0505025 did not converge)"
+    start = next(line for line in r.stdout.splitlines() if line.startswith("iteration  0"))
+    assert note in start, f"the start's iteration line does not say: {note}"
+    result = json.load(open(os.path.join(folder, "fit.json")))
+    assert note in result["difference_fallbacks"], result["difference_fallbacks"]
+    assert result["status"] == "max_iterations" and result["iterations"] == 2, result["status"]
+    assert math.isfinite(values(result)["c10_cornea"]["se"])
 elif mode in ("resume", "ranks"):
     shutil.copytree(os.path.join(reference, "data"), os.path.join(out, "data"))
     ref = values(json.load(open(os.path.join(reference, "fit", "fit.json"))))

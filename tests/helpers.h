@@ -25,7 +25,7 @@ inline std::filesystem::path out_dir(const std::string& name)
 inline nlohmann::json run_scene(const std::string& scene, const std::string& name,
                          const std::vector<std::string>& sets = {})
 {
-  auto s = nct::scene::Scene::load(std::filesystem::path(NCT_SOURCE_DIR) / scene, sets);
+  auto s = nct::read(MPI_COMM_WORLD, std::filesystem::path(NCT_SOURCE_DIR) / scene, sets);
   return nct::run(MPI_COMM_WORLD, s, {out_dir(name), {}});
 }
 

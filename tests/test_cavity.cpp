@@ -3,12 +3,16 @@
 #include <cmath>
 #include <gtest/gtest.h>
 
+#include "settings/settings.h"
+
 #include <dolfinx/la/petsc.h>
 
 #include "cavity/cavity.h"
 #include "eye/geometry.h"
 #include "helpers.h"
+#include "run/air_block.h"
 #include "run/model.h"
+#include "run/solid_block.h"
 
 namespace
 {
@@ -106,21 +110,21 @@ TEST(Cavity, ClosedPressureIsTheOpenEquilibrium)
 // differences across it converge at first order whatever the Jacobian.
 TEST(Cavity, BorderedJacobianMatchesFiniteDifferences)
 {
-  auto s = nct::scene::Scene::load(
+  auto s = nct::read(MPI_COMM_WORLD, 
       std::filesystem::path(NCT_SOURCE_DIR) / "scenes/cavity-press.toml",
       {"zero_pressure.enabled=false", "mesh.layers=1", "material.cornea.k1=0.0",
        "material.limbus.k1=0.0"});
   nct::Model model = nct::make_model(MPI_COMM_WORLD, s);
-  auto& problem = *model.problem;
-  problem.set_surface_profile([](const std::array<double, 3>& x)
+  auto& problem = model.solid->problem;
+  problem.set_press_profile([](const std::array<double, 3>& x)
                               { return std::exp(-(x[0] * x[0] + x[2] * x[2]) / 4.5); });
-  problem.set_surface_pressure(100 * mmHg);
+  problem.set_press(100 * mmHg);
   nct::cavity::Closed closed(problem, {20 * mmHg});
   // A smooth, large state u and a smooth direction w (through the dof
   // coordinates, so both ranks see the same fields). w is admissible: zero
   // on the clamped cut plane and normal to the symmetry planes, where the
   // Jacobian's Dirichlet rows and columns are identity.
-  const double cut_y = nct::eye::Geometry{}.cut_y;
+  const double cut_y = nct::scene::defaults<nct::eye::Geometry>().cut_y;
   auto V = problem.u->function_space();
   const std::vector<double> X = V->tabulate_dof_coordinates(false);
   auto& u = *problem.u->x();
@@ -234,7 +238,7 @@ TEST(ZeroPressure, ThickSphereMatchesClosedForm)
 // the ramp's state with fewer Newton iterations.
 TEST(ZeroPressure, EyeRoundTrip)
 {
-  const double apex_y = nct::eye::derive(nct::eye::Geometry{}).apex_y;
+  const double apex_y = nct::eye::derive(nct::scene::defaults<nct::eye::Geometry>()).apex_y;
   const std::vector<std::string> eye
       = {"mesh.layers=2", "inflate.steps=2", "press.pressure=0.0", "output.fields=false"};
   double previous = 0;

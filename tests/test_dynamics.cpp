@@ -12,7 +12,9 @@
 #include "cavity/cavity.h"
 #include "helpers.h"
 #include "puff/load.h"
+#include "run/air_block.h"
 #include "run/model.h"
+#include "run/solid_block.h"
 
 namespace
 {
@@ -31,11 +33,11 @@ struct Sample
 std::vector<Sample> vibrate(double dt, double end, double rho_inf, double damping,
                             double release)
 {
-  auto s = nct::scene::Scene::load(std::filesystem::path(NCT_SOURCE_DIR)
+  auto s = nct::read(MPI_COMM_WORLD, std::filesystem::path(NCT_SOURCE_DIR)
                                        / "tests/scenes/hgo_uniaxial.toml",
                                    {"material.tissue.model=\"neo_hookean\""});
   nct::Model model = nct::make_model(MPI_COMM_WORLD, s);
-  auto& problem = *model.problem;
+  auto& problem = model.solid->problem;
   dolfinx::la::petsc::Matrix A(problem.create_matrix(), false);
   nct::solver::set_petsc_options({}); // the defaults: MUMPS LU
   nct::solver::Newton newton(MPI_COMM_WORLD, A.mat());
@@ -44,7 +46,7 @@ std::vector<Sample> vibrate(double dt, double end, double rho_inf, double dampin
   const double p0 = -150 * mmHg;
   for (double f : {0.5, 1.0})
   {
-    problem.set_surface_pressure(f * p0);
+    problem.set_press(f * p0);
     EXPECT_TRUE(newton.solve(open.system(), settings).converged);
   }
   problem.start_dynamics({dt, rho_inf, damping});
@@ -58,7 +60,7 @@ std::vector<Sample> vibrate(double dt, double end, double rho_inf, double dampin
   const int steps = static_cast<int>(std::lround(end / dt));
   for (int n = 0; n < steps; ++n)
   {
-    problem.set_surface_pressure(pressure((n + problem.load_level()) * dt));
+    problem.set_press(pressure((n + problem.load_level()) * dt));
     auto report = newton.solve(open.system(), settings);
     if (!report.converged)
     {
@@ -143,15 +145,15 @@ TEST(Dynamics, EnergyConservedOrDampedAtThePredictedRate)
 TEST(Support, RigidBodyOnSpringsVibratesAtTheClosedForm)
 {
   const double rho = 1e-3, K = 1.0, C = 0.004, alpha = 0.2; // g/mm^3, N/mm, N ms/mm, 1/ms
-  auto s = nct::scene::Scene::load(
+  auto s = nct::read(MPI_COMM_WORLD, 
       std::filesystem::path(NCT_SOURCE_DIR) / "tests/scenes/hgo_uniaxial.toml",
       {"fem.degree=1", "material.tissue.model=\"neo_hookean\"", "material.tissue.c10=1000.0",
        "material.tissue.kappa=10000.0", "material.tissue.density=" + std::to_string(rho),
        "boundary.symmetry=[\"x0\", \"z0\"]", "boundary.fixed=[\"y0\"]",
-       "boundary.surface_load=[\"y1\"]", "support.model=\"springs\"",
+       "boundary.press=[\"y1\"]", "support.model=\"springs\"",
        "support.stiffness=" + std::to_string(K), "support.damping=" + std::to_string(C)});
   nct::Model model = nct::make_model(MPI_COMM_WORLD, s);
-  auto& problem = *model.problem;
+  auto& problem = model.solid->problem;
   dolfinx::la::petsc::Matrix A(problem.create_matrix(), false);
   nct::solver::set_petsc_options({});
   nct::solver::Newton newton(MPI_COMM_WORLD, A.mat());
@@ -165,7 +167,7 @@ TEST(Support, RigidBodyOnSpringsVibratesAtTheClosedForm)
   {
     const double tn = (n + problem.load_level()) * dt;
     const double x = std::min(tn / push, 1.0);
-    problem.set_surface_pressure(tn < push ? 100 * mmHg * std::pow(std::sin(M_PI * x), 2) : 0);
+    problem.set_press(tn < push ? 100 * mmHg * std::pow(std::sin(M_PI * x), 2) : 0);
     const auto report = newton.solve(open.system(), settings);
     ASSERT_TRUE(report.converged) << "step " << n << ": " << report.reason << ", residuals "
                                   << report.residuals.front() << " to "
@@ -437,7 +439,7 @@ TEST(Puff, PredictorKeepsTheMotion)
 // each), not the scene's LDL^T (which a named preconditioner overrides).
 TEST(Puff, AlgebraicMultigridGivesTheDirectSolversMotion)
 {
-  auto s = nct::scene::Scene::load(
+  auto s = nct::read(MPI_COMM_WORLD, 
       std::filesystem::path(NCT_SOURCE_DIR) / "scenes/default.toml",
       {"fem.degree=1", "output.fields=false", "solver.atol=1e-11", "puff.duration=2",
        "zero_pressure.enabled=false"});

@@ -4,6 +4,8 @@
 #include <gmsh.h>
 #include <gtest/gtest.h>
 
+#include "settings/settings.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -61,7 +63,7 @@ double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 
 TEST(EyeDerive, DefaultGeometryIsConsistent)
 {
-  const Geometry g;
+  const Geometry g = nct::scene::defaults<Geometry>();
   const Derived d = nct::eye::derive(g);
   const double Ra = g.cornea_anterior_radius, Rp = g.cornea_posterior_radius;
   const double Rs = g.sclera_outer_radius, Ri = inner_radius(g);
@@ -114,38 +116,38 @@ void expect_rejected(const Geometry& g, const std::string& key)
 
 TEST(EyeDerive, ImpossibleGeometriesNameTheKey)
 {
-  Geometry g;
+  Geometry g = nct::scene::defaults<Geometry>();
   g.cornea_posterior_radius = 2.0; // too small to reach the inner sclera
   expect_rejected(g, "cornea_posterior_radius");
-  g = {};
+  g = nct::scene::defaults<Geometry>();
   g.cut_y = 10.0; // above the posterior junction
   expect_rejected(g, "cut_y");
-  g = {};
+  g = nct::scene::defaults<Geometry>();
   g.cut_y = -11.5; // below the inner sphere
   expect_rejected(g, "cut_y");
-  g = {};
+  g = nct::scene::defaults<Geometry>();
   g.limbus_width = 14.0; // wider than the cornea can hold
   expect_rejected(g, "limbus_width");
-  g = {};
+  g = nct::scene::defaults<Geometry>();
   g.sclera_thickness = 0;
   expect_rejected(g, "sclera_thickness");
-  g = {};
+  g = nct::scene::defaults<Geometry>();
   g.limbus_diameter = 16.0; // wider than the anterior corneal sphere
   expect_rejected(g, "limbus_diameter");
-  g = {};
+  g = nct::scene::defaults<Geometry>();
   g.cornea_central_thickness = -0.1;
   expect_rejected(g, "cornea_central_thickness");
-  g = {};
+  g = nct::scene::defaults<Geometry>();
   g.cornea_central_thickness = 3.0; // posterior sphere misses the anterior junction
   expect_rejected(g, "cornea_posterior_radius");
-  g = {};
+  g = nct::scene::defaults<Geometry>();
   g.sclera_thickness = 3.0; // the sweep lines fold at the posterior junction
   expect_rejected(g, "sclera_thickness");
 }
 
 TEST(EyeFibres, DirectionsPerPart)
 {
-  const Geometry g;
+  const Geometry g = nct::scene::defaults<Geometry>();
   const Derived d = nct::eye::derive(g);
   const double tol = 1e-14;
 
@@ -390,8 +392,8 @@ Refinement halved(Refinement r)
 
 TEST_P(EyeMesh, ChecksOutAndConverges)
 {
-  const Geometry g;
-  Refinement r;
+  const Geometry g = nct::scene::defaults<Geometry>();
+  Refinement r = nct::scene::defaults<Refinement>();
   r.layers = GetParam();
   const MeshReport coarse = check_mesh(g, r);
   const MeshReport fine = check_mesh(g, halved(r));
@@ -412,7 +414,7 @@ using EyeMeshDefault = GmshSuite;
 TEST_F(EyeMeshDefault, RefinementReport)
 {
   const auto start = std::chrono::steady_clock::now();
-  nct::eye::build(Geometry{}, Refinement{});
+  nct::eye::build(nct::scene::defaults<Geometry>(), nct::scene::defaults<Refinement>());
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::vector<std::size_t> tets, nodes, tags;
@@ -428,10 +430,10 @@ TEST_F(EyeMeshDefault, RefinementReport)
 
 TEST_F(EyeMeshDefault, RejectsBadRefinement)
 {
-  Refinement r;
+  Refinement r = nct::scene::defaults<Refinement>();
   r.layers = 0;
   try {
-    nct::eye::build(Geometry{}, r);
+    nct::eye::build(nct::scene::defaults<Geometry>(), r);
     ADD_FAILURE() << "no exception";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("mesh.layers"), std::string::npos) << e.what();
@@ -442,7 +444,7 @@ TEST_F(EyeMeshDefault, RejectsBadRefinement)
 
 Geometry internal_geometry()
 {
-  Geometry g;
+  Geometry g = nct::scene::defaults<Geometry>();
   g.internal_structures = true;
   return g;
 }
@@ -451,7 +453,7 @@ TEST(EyeDerive, InternalStructureVolumes)
 {
   const Geometry g = internal_geometry();
   const Derived d = nct::eye::derive(g);
-  const Derived off = nct::eye::derive(Geometry{});
+  const Derived off = nct::eye::derive(nct::scene::defaults<Geometry>());
   EXPECT_EQ(off.aqueous_volume, 0);
   EXPECT_EQ(off.vitreous_volume, 0);
   EXPECT_EQ(d.cavity_volume, off.cavity_volume);
@@ -651,7 +653,7 @@ class EyeInternalMesh : public GmshSuite, public ::testing::WithParamInterface<i
 TEST_P(EyeInternalMesh, ConformsAndConverges)
 {
   const Geometry g = internal_geometry();
-  Refinement r;
+  Refinement r = nct::scene::defaults<Refinement>();
   r.layers = GetParam();
   const InternalReport coarse = check_internal_mesh(g, r);
   const InternalReport fine = check_internal_mesh(g, halved(r));
@@ -669,7 +671,7 @@ INSTANTIATE_TEST_SUITE_P(Layers, EyeInternalMesh, ::testing::Values(3, 5));
 TEST_F(EyeMeshDefault, InternalStructuresReport)
 {
   const auto start = std::chrono::steady_clock::now();
-  nct::eye::build(internal_geometry(), Refinement{});
+  nct::eye::build(internal_geometry(), nct::scene::defaults<Refinement>());
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::vector<std::size_t> tets, nodes, tags;
@@ -685,9 +687,9 @@ TEST_F(EyeMeshDefault, InternalStructuresReport)
 
 TEST_F(EyeMeshDefault, RejectsBadLensSize)
 {
-  Refinement r;
+  Refinement r = nct::scene::defaults<Refinement>();
   r.size_lens = 0;
-  EXPECT_NO_THROW(nct::eye::build(Geometry{}, r)); // unused without internal structures
+  EXPECT_NO_THROW(nct::eye::build(nct::scene::defaults<Geometry>(), r)); // unused without internal structures
   gmsh::model::remove();
   try {
     nct::eye::build(internal_geometry(), r);

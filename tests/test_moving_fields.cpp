@@ -65,7 +65,7 @@ TEST(MovingFields, GeometryAndValuesPerStep)
   auto V = std::make_shared<dolfinx::fem::FunctionSpace>(dolfinx::fem::create_functionspace(
       functionspace_form_mesh_motion_p1_full_R_harmonic, "d", mesh, reverse));
   auto S = std::make_shared<dolfinx::fem::FunctionSpace>(dolfinx::fem::create_functionspace(
-      functionspace_form_solid_p1_full_R, "surface_profile", mesh, reverse));
+      functionspace_form_solid_p1_full_R, "press_profile", mesh, reverse));
   dolfinx::fem::Function<double> d(V), v(V), p(S);
   v.name = "velocity";
   p.name = "pressure";

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include "helpers.h"
+#include "run/air_block.h"
 #include "run/model.h"
+#include "run/solid_block.h"
 
 namespace
 {
@@ -13,7 +15,7 @@ using namespace nct::test;
 
 nct::Model box_model(const std::vector<std::string>& sets = {})
 {
-  auto s = nct::scene::Scene::load(std::filesystem::path(NCT_SOURCE_DIR)
+  auto s = nct::read(MPI_COMM_WORLD, std::filesystem::path(NCT_SOURCE_DIR)
                                        / "tests/scenes/hgo_uniaxial.toml",
                                    sets);
   return nct::make_model(MPI_COMM_WORLD, s);
@@ -39,7 +41,7 @@ void set_ux(nct::solid::Problem& problem, const std::function<double(double)>& f
 TEST(Robust, SmallestJacobianFindsTheFold)
 {
   auto model = box_model();
-  auto& problem = *model.problem;
+  auto& problem = model.solid->problem;
   const auto rest = problem.smallest_jacobian();
   EXPECT_NEAR(rest.value, 1.0, 1e-12);
 

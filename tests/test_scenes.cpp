@@ -4,12 +4,17 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <functional>
 #include <gtest/gtest.h>
 
+#include "settings/settings.h"
+
 #include "eye/geometry.h"
 #include "helpers.h"
+#include "run/air_block.h"
 #include "run/model.h"
+#include "run/solid_block.h"
 
 namespace
 {
@@ -401,7 +406,7 @@ TEST(Eye, CavityVolumeMatchesGeometry)
 {
   auto summary = run_scene("scenes/inflate.toml", "eye_volume",
                            {"inflate.iop=0.0", "inflate.steps=1", "output.fields=false"});
-  const double exact = nct::eye::derive(nct::eye::Geometry{}).cavity_volume;
+  const double exact = nct::eye::derive(nct::scene::defaults<nct::eye::Geometry>()).cavity_volume;
   const double meshed = summary["cavity_volume_reference_mm3"].get<double>();
   std::printf("eye cavity: meshed %.4f mm3, analytic %.4f mm3 (%.3f%%)\n", meshed, exact,
               100 * (meshed / exact - 1));
@@ -417,10 +422,10 @@ TEST(Eye, CavityVolumeMatchesGeometry)
 // the wall and the lid).
 TEST(Eye, WholeEyeTranslationKeepsTheCavityVolume)
 {
-  auto s = nct::scene::Scene::load(std::filesystem::path(NCT_SOURCE_DIR) / "scenes/default.toml",
+  auto s = nct::read(MPI_COMM_WORLD, std::filesystem::path(NCT_SOURCE_DIR) / "scenes/default.toml",
                                    {"mesh.layers=2", "output.fields=false"});
   nct::Model model = nct::make_model(MPI_COMM_WORLD, s);
-  auto& problem = *model.problem;
+  auto& problem = model.solid->problem;
   problem.start_dynamics({0.5, 0.8, 0.1}); // the springs take over: the cut may move
   const double before = problem.cavity_volumes()[0];
   const double shift = 0.1; // mm along the axis
@@ -428,7 +433,7 @@ TEST(Eye, WholeEyeTranslationKeepsTheCavityVolume)
   for (std::size_t i = 1; i < u.size(); i += 3)
     u[i] = shift;
   const double after = problem.cavity_volumes()[0];
-  const nct::eye::Geometry g;
+  const auto g = nct::scene::defaults<nct::eye::Geometry>();
   const double inner = g.sclera_outer_radius - g.sclera_thickness;
   const double lid = M_PI * (inner * inner - g.cut_y * g.cut_y);
   dolfinx::la::Vector<double> b(problem.u->x()->map(), 3);
@@ -459,7 +464,7 @@ TEST(Eye, InternalStructuresMakeTwoClosedCavities)
                             "press.pressure=20.0", "press.profile=\"gaussian\"",
                             "press.steps=1", "output.fields=false"});
   ASSERT_EQ(summary["status"], "converged");
-  nct::eye::Geometry g;
+  auto g = nct::scene::defaults<nct::eye::Geometry>();
   g.internal_structures = true;
   const auto d = nct::eye::derive(g);
   const double aqueous = summary["aqueous_volume_reference_mm3"].get<double>();
@@ -546,4 +551,33 @@ TEST(Eye, InflateSceneInflates)
   EXPECT_LT(apex, 0.5);
   EXPECT_GT(summary["cavity_volume_mm3"].get<double>(),
             summary["cavity_volume_reference_mm3"].get<double>());
+}
+
+// output.probes: each probe's history goes to probes.csv (a row per
+// converged step, the phase and its time) and its last displacement to
+// summary.json by name, equal to the last step's.
+TEST(Output, ProbesHistoryAndLastValues)
+{
+  auto summary = run_scene("tests/scenes/hgo_uniaxial.toml", "probes_history");
+  const auto& steps = summary["steps"];
+  const auto& last = steps.back()["probe_0_displacement_mm"];
+  EXPECT_EQ(summary["probe_displacement_mm"]["probe_0"], last);
+  std::ifstream in(out_dir("probes_history") / "probes.csv");
+  std::string header, line, row;
+  std::getline(in, header);
+  EXPECT_EQ(header, "t,phase,probe_0_ux_mm,probe_0_uy_mm,probe_0_uz_mm");
+  std::size_t rows = 0;
+  while (std::getline(in, line))
+    row = line, ++rows;
+  ASSERT_EQ(rows, steps.size());
+  std::stringstream cells(row);
+  std::vector<std::string> values;
+  for (std::string cell; std::getline(cells, cell, ',');)
+    values.push_back(cell);
+  ASSERT_EQ(values.size(), 5u);
+  EXPECT_NEAR(std::stod(values[0]), steps.back()["time"].get<double>(), 1e-9);
+  EXPECT_EQ(values[1], steps.back()["phase"].get<std::string>());
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(std::stod(values[2 + k]), last[k].get<double>(),
+                1e-9 * std::max(1.0, std::abs(last[k].get<double>())));
 }

@@ -5,7 +5,7 @@
 namespace nct::air
 {
 
-/// Shape and mesh sizes of the air domain (design.md sections 4 and 8).
+/// Shape and mesh sizes of the air domain (docs/physics.md sections 4 and 8).
 /// Lengths in mm, in the eye's frame (optical axis +y, towards the nozzle).
 ///
 /// The domain is the quarter (x >= 0, z >= 0) of a cylinder about the
@@ -14,18 +14,18 @@ namespace nct::air
 /// the eye and the nozzle. The nozzle is a tube (inner diameter
 /// nozzle_diameter, outer nozzle_outer_diameter) from its exit,
 /// nozzle_distance above the corneal apex, up to the device face, where its
-/// bore is the inlet.
+/// bore is the inlet. Its keys and defaults: [air] (cpp/settings/air.cpp).
 struct Domain
 {
-  double radius = 50.0;
-  double nozzle_diameter = 2.4;
-  double nozzle_outer_diameter = 6.0;
-  double nozzle_distance = 11.0; ///< nozzle exit to corneal apex, along the axis
-  double nozzle_length = 2.0;    ///< nozzle exit to inlet (the device face)
-  double size_nozzle = 0.1; ///< element size in the nozzle's bore and at its exit
-  double size_jet = 0.15;  ///< element size within jet_radius of the axis, inlet to apex
-  double jet_radius = 2.0; ///< radius of the finely meshed core of the jet
-  double size_far = 5.0;   ///< largest element size, towards the far boundary
+  double radius;
+  double nozzle_diameter;
+  double nozzle_outer_diameter;
+  double nozzle_distance; ///< nozzle exit to corneal apex, along the axis
+  double nozzle_length;    ///< nozzle exit to inlet (the device face)
+  double size_nozzle; ///< element size in the nozzle's bore and at its exit
+  double size_jet;  ///< element size within jet_radius of the axis, inlet to apex
+  double jet_radius; ///< radius of the finely meshed core of the jet
+  double size_far;   ///< largest element size, towards the far boundary
 };
 
 /// Growth of the element size away from the jet's core [mm per mm].

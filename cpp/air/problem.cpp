@@ -95,6 +95,7 @@ Problem::Problem(const meshio::Tagged& m, const Fluid& fluid, const Boundaries& 
     _J_mesh = form(*form_air_ale_p1_full_J_mesh, {W, d->function_space()});
     _force = {form(*form_air_ale_p1_full_force_x, {}), form(*form_air_ale_p1_full_force_y, {}),
               form(*form_air_ale_p1_full_force_z, {})};
+    _traction_power = form(*form_air_ale_p1_full_traction_power, {});
     _mesh_jacobian = std::make_shared<fem::Expression<double>>(fem::create_expression<double>(
         *expression_air_ale_p1_full_mesh_jacobian, coeffs, {}, m.mesh));
   }
@@ -272,6 +273,13 @@ std::array<double, 3> Problem::interface_force() const
     f[i] = fem::assemble_scalar(*_force.at(i));
   MPI_Allreduce(MPI_IN_PLACE, f.data(), 3, MPI_DOUBLE, MPI_SUM, up->function_space()->mesh()->comm());
   return f;
+}
+
+double Problem::traction_power() const
+{
+  double p = fem::assemble_scalar(*_traction_power);
+  MPI_Allreduce(MPI_IN_PLACE, &p, 1, MPI_DOUBLE, MPI_SUM, up->function_space()->mesh()->comm());
+  return p;
 }
 
 std::vector<std::array<std::int32_t, 2>>

@@ -26,15 +26,16 @@
 namespace nct::air
 {
 
-/// Properties of the air [g/mm^3, MPa ms] and of its outlet condition.
+/// Properties of the air [g/mm^3, MPa ms] and of its outlet condition
+/// (keys and defaults: [air], cpp/settings/air.cpp).
 struct Fluid
 {
-  double density = 1.25e-6;
-  double viscosity = 1.8e-8;
-  double backflow = 1.0; ///< beta of the outlet's backflow traction (>= 1/2: energy stable)
+  double density;
+  double viscosity;
+  double backflow; ///< beta of the outlet's backflow traction (>= 1/2: energy stable)
   /// Time scale T of the stabilisation parameter tau [ms] (forms/navier_stokes.py);
   /// infinity leaves its time term out.
-  double stabilisation_time = 0.25;
+  double stabilisation_time;
 };
 
 /// Velocity conditions by facet group. Groups in none of these lists are
@@ -129,6 +130,9 @@ public:
   /// Moving: the air's force on the interface, -integral sigma n da [N]
   /// (the meshed part; every rank gets it).
   std::array<double, 3> interface_force() const;
+  /// Moving: the power the air's stress delivers to the solid on the
+  /// interface, -integral sigma n . u da [W] (the meshed part; every rank).
+  double traction_power() const;
   /// The owned velocity dofs (local index in (u, p), component) on the
   /// facets of these groups, each node once: where force_on sums.
   std::vector<std::array<std::int32_t, 2>> wall_dofs(const std::vector<std::int32_t>& groups) const;
@@ -144,6 +148,7 @@ public:
 private:
   std::shared_ptr<dolfinx::fem::Form<double>> _R, _J, _J_mesh;
   std::array<std::shared_ptr<dolfinx::fem::Form<double>>, 3> _force;
+  std::shared_ptr<dolfinx::fem::Form<double>> _traction_power;
   std::shared_ptr<dolfinx::fem::Expression<double>> _mesh_jacobian;
   std::map<std::string, std::shared_ptr<dolfinx::fem::Constant<double>>> _constants;
   std::shared_ptr<dolfinx::fem::Function<double>> _inlet_shape, _inlet; ///< collapsed velocity space

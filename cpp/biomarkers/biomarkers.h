@@ -1,4 +1,4 @@
-// Corvis biomarkers (design.md section 9) from sampled corneal profiles
+// Corvis biomarkers (docs/physics.md section 9) from sampled corneal profiles
 // and apex time series. Pure functions of the samples: every rank that
 // holds the same samples gets the same answer. The dynamic corneal
 // response (DCR) parameters follow Vinciguerra et al., J Refract Surg

@@ -65,6 +65,9 @@ public:
   /// The largest value of a known or state column over the frames.
   double max(const std::string& column) const;
   std::size_t frames() const { return _frames.size(); }
+  /// The last step's apex displacement (frames.csv's apex_displacement_mm:
+  /// axial, from the first state added) [mm].
+  double last_apex() const { return _steps.back()[_steps.back().size() - 2]; }
 
   /// What has been recorded, for a checkpoint (the sections and the known
   /// columns are the constructor's); restore() takes it back.

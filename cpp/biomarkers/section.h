@@ -1,4 +1,4 @@
-// The corneal profiles of the horizontal section (design.md section 9):
+// The corneal profiles of the horizontal section (docs/physics.md section 9):
 // the displacement nodes of the anterior and posterior corneal surfaces
 // on the plane z = 0, gathered on every rank.
 #pragma once

@@ -23,7 +23,7 @@ private:
   std::vector<double> _none;
 };
 
-/// Closed cavities (design.md section 6): each pressure p_c is the Lagrange
+/// Closed cavities (docs/physics.md section 6): each pressure p_c is the Lagrange
 /// multiplier of V_c(u) = V_c,target, so the humor is incompressible.
 /// The constraint rows are G_c = (V_c,target - V_c(u)) / s in the meshed
 /// part's volume (s the symmetry factor): with R = dPi/du + sum p_c dR/dp_c

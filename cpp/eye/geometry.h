@@ -7,45 +7,47 @@
 namespace nct::eye
 {
 
-/// Shape of the idealised eye (design.md section 4). Lengths in mm.
+/// Shape of the idealised eye (docs/physics.md section 4). Lengths in mm.
 ///
 /// Frame: origin at the centre of the scleral sphere, optical axis +y
 /// (anterior, towards the nozzle), x nasal-temporal, z superior-inferior.
 /// The model is the quarter x >= 0, z >= 0, cut by the plane y = cut_y.
+/// Its keys and defaults: [geometry] (cpp/settings/mesh.cpp;
+/// scene::defaults<Geometry>()).
 struct Geometry
 {
-  double cornea_anterior_radius = 7.8;   ///< Ra
-  double cornea_posterior_radius = 6.5;  ///< Rp
-  double cornea_central_thickness = 0.55; ///< tc
-  double limbus_diameter = 11.7;  ///< diameter of the anterior cornea-sclera junction
-  double limbus_width = 1.0;      ///< meridional width of the limbus band
-  double sclera_outer_radius = 12.0; ///< Rs
-  double sclera_thickness = 0.8;     ///< ts
-  double cut_y = -4.0;               ///< posterior cut plane y = cut_y
+  double cornea_anterior_radius;   ///< Ra
+  double cornea_posterior_radius;  ///< Rp
+  double cornea_central_thickness; ///< tc
+  double limbus_diameter;  ///< diameter of the anterior cornea-sclera junction
+  double limbus_width;      ///< meridional width of the limbus band
+  double sclera_outer_radius; ///< Rs
+  double sclera_thickness;     ///< ts
+  double cut_y;               ///< posterior cut plane y = cut_y
 
   /// Internal structures: the "diaphragm" of lens, zonule band and vitreous
   /// membrane, a second layered body splitting the cavity into the aqueous
   /// (in front) and vitreous (behind) chambers. Off: the eye is as without
   /// these keys (one "cavity_wall") and the keys below are not validated.
-  bool internal_structures = false;
-  double anterior_chamber_depth = 3.0; ///< posterior corneal apex to anterior lens pole, on the axis
-  double lens_thickness = 4.0;         ///< anterior to posterior lens pole, on the axis
-  double lens_diameter = 9.5;          ///< diameter of the lens equator
-  double lens_anterior_radius = 10.0;  ///< anterior lens sphere (centre below the anterior pole)
-  double lens_posterior_radius = 6.0;  ///< posterior lens sphere (centre above the posterior pole)
-  double lens_nucleus_fraction = 0.6;  ///< nucleus: chart radius < this times the lens radius (middle layers)
-  double ciliary_offset = 2.0; ///< arc length along the inner scleral sphere from the posterior
+  bool internal_structures;
+  double anterior_chamber_depth; ///< posterior corneal apex to anterior lens pole, on the axis
+  double lens_thickness;         ///< anterior to posterior lens pole, on the axis
+  double lens_diameter;          ///< diameter of the lens equator
+  double lens_anterior_radius;  ///< anterior lens sphere (centre below the anterior pole)
+  double lens_posterior_radius;  ///< posterior lens sphere (centre above the posterior pole)
+  double lens_nucleus_fraction;  ///< nucleus: chart radius < this times the lens radius (middle layers)
+  double ciliary_offset; ///< arc length along the inner scleral sphere from the posterior
                                ///< cornea-sclera junction, backwards, to the zonule ring
 };
 
-/// Mesh refinement of the idealised eye.
+/// Mesh refinement of the idealised eye ([mesh], cpp/settings/mesh.cpp).
 struct Refinement
 {
-  int layers = 5;             ///< elements through the thickness
-  double size_cornea = 0.5;   ///< in-plane element size in the cornea [mm]
-  double size_limbus = 0.5;   ///< in-plane element size in the limbus [mm]
-  double size_sclera = 1.5;   ///< in-plane element size in the sclera [mm]
-  double size_lens = 0.8;     ///< in-plane element size in the lens (internal structures) [mm]
+  int layers;             ///< elements through the thickness
+  double size_cornea;   ///< in-plane element size in the cornea [mm]
+  double size_limbus;   ///< in-plane element size in the limbus [mm]
+  double size_sclera;   ///< in-plane element size in the sclera [mm]
+  double size_lens;     ///< in-plane element size in the lens (internal structures) [mm]
 };
 
 /// Points and quantities derived from a Geometry.

@@ -352,27 +352,23 @@ public:
     const std::vector<double> theta(parameters[0], parameters[0] + n);
     std::vector<std::vector<double>> points = {theta};
     const bool jacobian = jacobians && jacobians[0];
+    std::vector<std::array<double, 2>> pairs(n); // each parameter's two points
     if (jacobian || _speculate)
       for (std::size_t i = 0; i < n; ++i)
       {
         // Two points per parameter: theta + h and theta (forward) or
-        // theta - h (central); the step is relative on a log scale, else
-        // relative to the value (or to the bounds' span near 0); one-sided
-        // backwards at the upper bound, forwards at the lower.
+        // theta - h (central); one-sided backwards at the upper bound,
+        // forwards at the lower.
         const Parameter& p = _fit.parameters[i];
-        const double h = _fit.step * (p.log ? 1.0 : std::max(std::abs(theta[i]),
-                                                             1e-3 * (p.upper - p.lower)));
+        const double h = step(i, theta);
         double a = theta[i] + h, b = _fit.central ? theta[i] - h : theta[i];
         if (a > variable(p, p.upper))
           a = theta[i], b = theta[i] - h;
         else if (b < variable(p, p.lower))
           b = theta[i];
+        pairs[i] = {a, b};
         for (double x : {a, b})
-        {
-          auto q = theta;
-          q[i] = x;
-          points.push_back(q);
-        }
+          points.push_back(moved(theta, i, x));
       }
     std::vector<fs::path> runs;
     try
@@ -392,21 +388,91 @@ public:
       return true;
     for (std::size_t i = 0; i < n; ++i)
     {
-      const auto& a = points[1 + 2 * i];
-      const auto& b = points[2 + 2 * i];
-      if (runs[1 + 2 * i].empty() || runs[2 + 2 * i].empty())
-        return false; // a neighbour diverged: Ceres shrinks its step
-      const auto ra = weighted(_fit, model_values(_fit, runs[1 + 2 * i]), a);
-      const auto rb = weighted(_fit, model_values(_fit, runs[2 + 2 * i]), b);
+      auto [a, b] = pairs[i];
+      fs::path run_a = runs[1 + 2 * i], run_b = runs[2 + 2 * i];
+      if ((run_a.empty() || run_b.empty()) && !fall_back(i, theta, runs[0], a, b, run_a, run_b))
+        return false; // no difference of this parameter converged: Ceres shrinks its step
+      const auto ra = weighted(_fit, model_values(_fit, run_a), moved(theta, i, a));
+      const auto rb = weighted(_fit, model_values(_fit, run_b), moved(theta, i, b));
       for (std::size_t j = 0; j < m; ++j)
-        jacobians[0][j * n + i] = (ra[j] - rb[j]) / (a[i] - b[i]);
+        jacobians[0][j * n + i] = (ra[j] - rb[j]) / (a - b);
     }
     return true;
   }
 
+  /// What the last Jacobian's differences fell back to, for the progress
+  /// line (taken by it).
+  mutable std::vector<std::string> notes;
   mutable fs::path last_run; ///< the run of the last point evaluated
 
 private:
+  /// Parameter i's finite-difference step at theta: relative on a log
+  /// scale, else relative to the value (or to the bounds' span near 0).
+  double step(std::size_t i, const std::vector<double>& theta) const
+  {
+    const Parameter& p = _fit.parameters[i];
+    return _fit.step * (p.log ? 1.0 : std::max(std::abs(theta[i]), 1e-3 * (p.upper - p.lower)));
+  }
+  static std::vector<double> moved(std::vector<double> theta, std::size_t i, double x)
+  {
+    theta[i] = x;
+    return theta;
+  }
+  /// A neighbour of parameter i did not converge: the difference on the
+  /// other side of theta, else a quarter of the step on either side (a
+  /// one-sided difference with theta's run, `run0`). True with the points
+  /// (a, b) and their runs of the first that converged; each try noted.
+  bool fall_back(std::size_t i, const std::vector<double>& theta, const fs::path& run0,
+                 double& a, double& b, fs::path& run_a, fs::path& run_b) const
+  {
+    const Parameter& p = _fit.parameters[i];
+    const double h = step(i, theta), lo = variable(p, p.lower), hi = variable(p, p.upper);
+    const std::string failed = run_a.empty() && run_b.empty() ? "both neighbours"
+                               : run_a.empty() ? format("the run at %.6g", value(p, a))
+                                               : format("the run at %.6g", value(p, b));
+    // The sides to try, in order: the one whose run converged against theta,
+    // the other side, then each at a quarter of the step.
+    std::vector<double> tries;
+    if (!run_b.empty() && b != theta[i])
+      tries.push_back(b);
+    if (!run_a.empty() && a != theta[i])
+      tries.push_back(a);
+    for (double x : {theta[i] - h, theta[i] + h, theta[i] + h / 4, theta[i] - h / 4})
+      if (x >= lo && x <= hi && x != a && x != b)
+        tries.push_back(x);
+    for (double x : tries)
+    {
+      fs::path run;
+      if (x == a && !run_a.empty())
+        run = run_a;
+      else if (x == b && !run_b.empty())
+        run = run_b;
+      else
+        try
+        {
+          run = _forward.runs({moved(theta, i, x)})[0];
+        }
+        catch (const Forward::Interrupted&)
+        {
+          return false;
+        }
+      if (run.empty())
+        continue;
+      const bool quarter = std::abs(std::abs(x - theta[i]) - h / 4) < 1e-12 * h;
+      notes.push_back(format("%s: %s %s difference (%s did not converge)",
+                             p.label.c_str(), quarter ? "a quarter-step" : "a",
+                             x > theta[i] ? "forward" : "backward", failed.c_str()));
+      a = x, run_a = run, b = theta[i], run_b = run0;
+      if (a < b)
+        std::swap(a, b), std::swap(run_a, run_b);
+      return true;
+    }
+    notes.push_back(format("%s: no difference converged (%s; the other side and a quarter step "
+                           "did not either)",
+                           p.label.c_str(), failed.c_str()));
+    return false;
+  }
+
   const Fit& _fit;
   Forward& _forward;
   bool _speculate;
@@ -417,8 +483,9 @@ private:
 class Progress : public ceres::IterationCallback
 {
 public:
-  Progress(const Fit& fit, const Forward& forward, const double* theta, const fs::path& out)
-      : _fit(fit), _forward(forward), _theta(theta), _out(out),
+  Progress(const Fit& fit, const Forward& forward, const Cost& cost, const double* theta,
+           const fs::path& out)
+      : _fit(fit), _forward(forward), _cost(cost), _theta(theta), _out(out),
         _start(std::chrono::steady_clock::now())
   {
     _csv << "iteration,cost,step_norm,trust_radius,accepted";
@@ -446,14 +513,23 @@ public:
     line += format("step %.2e %s  runs %d (%d reused)  %.0f s", s.step_norm,
                    s.iteration == 0 ? "start" : s.step_is_successful ? "taken" : "refused",
                    _forward.total(), _forward.reusable(), wall);
+    // What the Jacobian's finite differences fell back to since the last line.
+    for (const auto& note : _cost.notes)
+      line += "; " + note;
+    fallbacks.insert(fallbacks.end(), _cost.notes.begin(), _cost.notes.end());
+    _cost.notes.clear();
     std::cout << line << std::endl;
     io::write_atomic(_out / "iterations.csv", _csv.str());
     return ceres::SOLVER_CONTINUE;
   }
 
+  /// Every fallback of the differences so far.
+  std::vector<std::string> fallbacks;
+
 private:
   const Fit& _fit;
   const Forward& _forward;
+  const Cost& _cost;
   const double* _theta;
   fs::path _out;
   std::chrono::steady_clock::time_point _start;
@@ -656,7 +732,7 @@ int run(const Fit& fit, const Options& o)
   options.num_threads = 1;
   options.logging_type = ceres::SILENT;
   options.update_state_every_iteration = true;
-  Progress progress(fit, forward, theta.data(), o.out);
+  Progress progress(fit, forward, cost, theta.data(), o.out);
   options.callbacks.push_back(&progress);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
@@ -669,9 +745,10 @@ int run(const Fit& fit, const Options& o)
   if (summary.termination_type == ceres::FAILURE || summary.termination_type == ceres::USER_FAILURE
       || !std::isfinite(summary.final_cost))
   {
-    std::cerr << "fit: failed: " << summary.message
-              << " (a forward run at the start failed: see " << (o.out / "runs").string() << ")"
-              << std::endl;
+    std::cerr << "fit: failed: " << summary.message << " ("
+              << (cost.notes.empty() ? "a forward run at the start failed"
+                                     : "the finite differences: " + cost.notes.back())
+              << "; see " << (o.out / "runs").string() << ")" << std::endl;
     return 3;
   }
 
@@ -709,6 +786,7 @@ int run(const Fit& fit, const Options& o)
   out["message"] = summary.message;
   out["iterations"] = summary.iterations.size() - 1;
   out["forward_runs"] = forward.total();
+  out["difference_fallbacks"] = progress.fallbacks;
   out["forward_runs_reused"] = forward.reusable();
   out["cost"] = summary.final_cost;
   double chi2 = 0;

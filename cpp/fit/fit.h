@@ -43,7 +43,7 @@ struct Observation
   std::vector<double> t, x, value, sd; ///< per point (a biomarker: one, t and x unused)
 };
 
-/// A validated fit file (README "Fitting a patient's readings").
+/// A validated fit file (docs/manual.md, "Fits").
 struct Fit
 {
   std::filesystem::path file;

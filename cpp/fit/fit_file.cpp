@@ -10,6 +10,7 @@
 #include "io/format.h"
 #include "io/toml_input.h"
 #include "scene/scene.h"
+#include "settings/settings.h"
 #include "study/study.h"
 
 namespace nct::fit
@@ -112,11 +113,13 @@ std::vector<std::vector<double>> read_points(const fs::path& csv, const std::str
   return rows;
 }
 
-Parameter read_parameter(const toml::table& pt, std::size_t i, const Fit& fit)
+Parameter read_parameter(const toml::table& pt, std::size_t i, const Fit& fit,
+                         io::KeyErrors& errors)
 {
   const fs::path& file = fit.file;
   const std::string where = "parameter[" + std::to_string(i + 1) + "].";
-  io::only(pt, {"key", "label", "start", "bounds", "log", "prior"}, file, where, "[[parameter]]");
+  io::only(pt, {"key", "label", "start", "bounds", "log", "prior"}, file, where, "[[parameter]]",
+           errors);
   Parameter p;
   if (!pt["key"])
     throw key_error(file, where + "key", "missing: the scene key (or keys) the parameter sets");
@@ -186,7 +189,7 @@ Parameter read_parameter(const toml::table& pt, std::size_t i, const Fit& fit)
     if (!t)
       throw key_error(file, where + "prior", "expected {mean = ..., sd = ...}, got "
                                                  + literal(*prior));
-    io::only(*t, {"mean", "sd"}, file, where + "prior.", "a prior");
+    io::only(*t, {"mean", "sd"}, file, where + "prior.", "a prior", errors);
     p.prior = true;
     p.prior_mean = required(*t, "mean", file, where + "prior.mean", "the measured value");
     p.prior_sd = required(*t, "sd", file, where + "prior.sd", "the measurement's SD");
@@ -214,7 +217,7 @@ Parameter read_parameter(const toml::table& pt, std::size_t i, const Fit& fit)
 }
 
 Observation read_observation(const toml::table& ot, std::size_t i, const Fit& fit,
-                             double duration)
+                             std::optional<double> duration, io::KeyErrors& errors)
 {
   const fs::path& file = fit.file;
   const std::string where = "observation[" + std::to_string(i + 1) + "].";
@@ -233,7 +236,8 @@ Observation read_observation(const toml::table& ot, std::size_t i, const Fit& fi
   };
   if (ot.contains("biomarker"))
   {
-    io::only(ot, {"biomarker", "value", "sd", "label"}, file, where, "a biomarker observation");
+    io::only(ot, {"biomarker", "value", "sd", "label"}, file, where, "a biomarker observation",
+             errors);
     o.kind = Kind::biomarker;
     o.quantity = ot["biomarker"].value_or(std::string());
     if (std::find(biomarkers().begin(), biomarkers().end(), o.quantity) == biomarkers().end())
@@ -254,10 +258,11 @@ Observation read_observation(const toml::table& ot, std::size_t i, const Fit& fi
     o.kind = curve ? Kind::curve : Kind::profile;
     const std::string name = curve ? "curve" : "profile";
     if (curve)
-      io::only(ot, {"curve", "quantity", "sd", "label"}, file, where, "a curve observation");
+      io::only(ot, {"curve", "quantity", "sd", "label"}, file, where, "a curve observation",
+               errors);
     else
       io::only(ot, {"profile", "surface", "reference", "sd", "label"}, file, where,
-               "a profile observation");
+               "a profile observation", errors);
     o.file = io::file_path(file, where + name, ot[name].node(), "CSV file");
     const double sd = sd_key();
     if (curve)
@@ -297,10 +302,10 @@ Observation read_observation(const toml::table& ot, std::size_t i, const Fit& fi
     {
       const auto& row = rows[r];
       const double t = row[0];
-      if (t < 0 || t > duration)
+      if (duration && (t < 0 || t > *duration))
         throw key_error(file, where + name, format("%s row %zu: t = %g ms is outside the puff "
                                                    "the scene simulates, [0, %g] ms",
-                                                   o.file.string().c_str(), r + 1, t, duration));
+                                                   o.file.string().c_str(), r + 1, t, *duration));
       o.t.push_back(t);
       o.x.push_back(curve ? NAN : row[1]);
       o.value.push_back(curve ? row[1] : row[2]);
@@ -335,18 +340,25 @@ std::size_t Fit::residuals() const
 Fit Fit::load(const fs::path& file)
 {
   const toml::table t = io::parse_toml(file, "fit file");
-  io::only(t, {"fit", "parameter", "observation"}, file, "", "a fit file");
+  io::KeyErrors errors(file, t);
+  io::only(t, {"fit", "parameter", "observation"}, file, "", "a fit file", errors);
   const toml::table* ft = t["fit"].as_table();
   if (!ft)
-    throw key_error(file, "fit", "missing: a [fit] table names the base scene");
+  {
+    errors.add(key_error(file, "fit", "missing: a [fit] table names the base scene").what());
+    errors.raise();
+  }
   io::only(*ft, {"scene", "set", "ranks", "jobs", "mpiexec", "max_iterations", "step",
                  "differences", "tolerance"},
-           file, "fit.", "[fit]");
+           file, "fit.", "[fit]", errors);
   Fit fit;
   fit.file = file;
-  fit.scene = io::file_path(file, "fit.scene", (*ft)["scene"].node(), "scene file");
-  if (auto* set = (*ft)["set"].node())
-    fit.sets = io::string_list(*set, file, "fit.set", false);
+  bool scene_read = errors.attempt(
+      [&] { fit.scene = io::file_path(file, "fit.scene", (*ft)["scene"].node(), "scene file"); });
+  scene_read = errors.attempt([&] {
+    if (auto* set = (*ft)["set"].node())
+      fit.sets = io::string_list(*set, file, "fit.set", false);
+  }) && scene_read;
 
   auto integer = [&](const char* key, long def, long lo, long hi)
   {
@@ -367,57 +379,83 @@ Fit Fit::load(const fs::path& file)
                       format("a number in (%g, %g), got %g", lo, hi, *v));
     return v ? *v : def;
   };
-  fit.ranks = integer("ranks", 1, 1, 4096);
-  const long cores = std::max(1u, std::thread::hardware_concurrency());
-  fit.jobs = integer("jobs", std::max(1L, cores / fit.ranks), 1, 4096);
-  fit.mpiexec = (*ft)["mpiexec"].value_or<std::string>("mpiexec --bind-to none");
-  if (fit.mpiexec.find_first_not_of(" \t") == std::string::npos)
-    throw key_error(file, "fit.mpiexec",
-                    "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
-  fit.max_iterations = integer("max_iterations", 20, 1, 1000);
-  fit.step = real("step", 0.01, 0, 0.5);
-  fit.tolerance = real("tolerance", 1e-4, 0, 1);
-  const std::string differences = (*ft)["differences"].value_or(std::string("forward"));
-  if (differences != "forward" && differences != "central")
-    throw key_error(file, "fit.differences", "\"forward\" (one run per parameter) or "
-                                             "\"central\" (two), got \"" + differences + "\"");
-  fit.central = differences == "central";
+  fit.ranks = 1;
+  errors.attempt([&] { fit.ranks = integer("ranks", 1, 1, 4096); });
+  errors.attempt([&] {
+    const long cores = std::max(1u, std::thread::hardware_concurrency());
+    fit.jobs = integer("jobs", std::max(1L, cores / fit.ranks), 1, 4096);
+  });
+  errors.attempt([&] {
+    fit.mpiexec = (*ft)["mpiexec"].value_or<std::string>("mpiexec --bind-to none");
+    if (fit.mpiexec.find_first_not_of(" \t") == std::string::npos)
+      throw key_error(file, "fit.mpiexec",
+                      "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
+  });
+  errors.attempt([&] { fit.max_iterations = integer("max_iterations", 20, 1, 1000); });
+  errors.attempt([&] { fit.step = real("step", 0.01, 0, 0.5); });
+  errors.attempt([&] { fit.tolerance = real("tolerance", 1e-4, 0, 1); });
+  errors.attempt([&] {
+    const std::string differences = (*ft)["differences"].value_or(std::string("forward"));
+    if (differences != "forward" && differences != "central")
+      throw key_error(file, "fit.differences", "\"forward\" (one run per parameter) or "
+                                               "\"central\" (two), got \"" + differences + "\"");
+    fit.central = differences == "central";
+  });
 
-  // The base scene with the fit's overrides must load, and simulate a puff.
-  scene::Scene base = [&]
-  {
-    try
-    {
-      return scene::Scene::load(fit.scene, fit.sets);
-    }
-    catch (const Error& e)
-    {
-      throw key_error(file, "fit.set", e.what());
-    }
-  }();
-  if (!base.has("puff.duration"))
-    throw key_error(file, "fit.scene", fit.scene.string() + " simulates no puff on the eye: "
-                                       "there are no readings to compare");
-  const double duration = base.real("puff.duration");
+  // The base scene with the fit's overrides must load, and simulate a puff
+  // on the eye (its duration bounds the readings' times).
+  std::optional<double> duration;
+  if (scene_read)
+    scene_read = errors.attempt([&] {
+      scene::Scene base = [&]
+      {
+        try
+        {
+          return scene::Scene::load(fit.scene, fit.sets);
+        }
+        catch (const Error& e)
+        {
+          throw key_error(file, "fit.set", e.what());
+        }
+      }();
+      scene::Reader reader(base);
+      PuffSettings puff;
+      visit(reader, puff);
+      if (!puff.prescribed() && puff.load != PuffSettings::Load::fsi)
+        throw key_error(file, "fit.scene", fit.scene.string() + " simulates no puff on the eye: "
+                                           "there are no readings to compare");
+      duration = puff.duration;
+    });
 
-  const toml::array* ps = t["parameter"].as_array();
-  if (!ps || ps->empty() || !ps->is_array_of_tables())
-    throw key_error(file, "parameter", "missing: one [[parameter]] table per fitted key "
-                                       "(key, start, bounds)");
-  for (std::size_t i = 0; i < ps->size(); ++i)
-    fit.parameters.push_back(read_parameter(*ps->get(i)->as_table(), i, fit));
+  errors.attempt([&] {
+    const toml::array* ps = t["parameter"].as_array();
+    if (!ps || ps->empty() || !ps->is_array_of_tables())
+      throw key_error(file, "parameter", "missing: one [[parameter]] table per fitted key "
+                                         "(key, start, bounds)");
+    for (std::size_t i = 0; scene_read && i < ps->size(); ++i) // their checks need the scene
+      errors.attempt([&] {
+        fit.parameters.push_back(read_parameter(*ps->get(i)->as_table(), i, fit, errors));
+      });
+  });
 
-  const toml::array* os = t["observation"].as_array();
-  if (!os || os->empty() || !os->is_array_of_tables())
-    throw key_error(file, "observation", "missing: one [[observation]] table per reading "
-                                         "(biomarker, curve or profile)");
-  for (std::size_t i = 0; i < os->size(); ++i)
-    fit.observations.push_back(read_observation(*os->get(i)->as_table(), i, fit, duration));
+  errors.attempt([&] {
+    const toml::array* os = t["observation"].as_array();
+    if (!os || os->empty() || !os->is_array_of_tables())
+      throw key_error(file, "observation", "missing: one [[observation]] table per reading "
+                                           "(biomarker, curve or profile)");
+    for (std::size_t i = 0; i < os->size(); ++i)
+      errors.attempt([&] {
+        fit.observations.push_back(
+            read_observation(*os->get(i)->as_table(), i, fit, duration, errors));
+      });
+  });
 
-  if (fit.residuals() < fit.parameters.size())
-    throw key_error(file, "observation", format("%zu measured values (with priors) cannot "
-                                                "determine %zu parameters",
-                                                fit.residuals(), fit.parameters.size()));
+  if (errors.empty() && fit.residuals() < fit.parameters.size())
+    errors.add(key_error(file, "observation", format("%zu measured values (with priors) cannot "
+                                                     "determine %zu parameters",
+                                                     fit.residuals(), fit.parameters.size()))
+                   .what());
+  errors.raise();
   return fit;
 }
 

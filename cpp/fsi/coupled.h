@@ -30,7 +30,7 @@ struct Interface
 };
 
 /// The interface's power at the solid's balance level t_{n+1-alpha_f}
-/// [mW]: what leaves the air (its force on the interface times the air's
+/// [W = N mm/ms]: what leaves the air (its force on the interface times the air's
 /// velocity there) and what enters the solid (the load it receives times
 /// its Newmark velocity).
 struct Power

@@ -1,5 +1,6 @@
 #include "io/toml_input.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <regex>
@@ -71,7 +72,7 @@ std::vector<std::string> string_list(const toml::node& v, const fs::path& file,
 }
 
 void only(const toml::table& t, const std::set<std::string>& known, const fs::path& file,
-          const std::string& where, const std::string& table)
+          const std::string& where, const std::string& table, KeyErrors& errors)
 {
   for (auto&& [k, v] : t)
     if (!known.count(std::string(k.str())))
@@ -79,9 +80,51 @@ void only(const toml::table& t, const std::set<std::string>& known, const fs::pa
       std::string list;
       for (auto& n : known)
         list += (list.empty() ? "" : ", ") + n;
-      throw key_error(file, where + std::string(k.str()), "unknown key; " + table + " takes "
-                                                              + list);
+      errors.add(key_error(file, where + std::string(k.str()),
+                           "unknown key; " + table + " takes " + list)
+                     .what());
     }
+}
+
+void KeyErrors::add(const std::string& message)
+{
+  // The same problem twice (every case of a study met the base scene's): once.
+  if (std::find(_seen.begin(), _seen.end(), message) != _seen.end())
+    return;
+  _seen.push_back(message);
+  const std::string head = _file.string() + ": key '";
+  if (message.rfind(head, 0) != 0)
+  {
+    const std::string prefix = _file.string() + ": ";
+    _errors.add(message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message);
+    return;
+  }
+  const std::string rest = message.substr(_file.string().size() + 2);
+  const std::string key = rest.substr(5, rest.find('\'', 5) - 5);
+  // "factor[2].levels" (counted from 1) is the TOML path "factor[1].levels".
+  std::string path;
+  for (std::size_t i = 0; i < key.size(); ++i)
+  {
+    if (key[i] == '[')
+    {
+      const std::size_t end = key.find(']', i);
+      path += "[" + std::to_string(std::stoul(key.substr(i + 1, end - i - 1)) - 1) + "]";
+      i = end;
+    }
+    else
+      path += key[i];
+  }
+  // The key itself, else the nearest table that holds it.
+  const toml::node* node = nullptr;
+  for (std::string p = path; !p.empty() && !node;)
+  {
+    node = _table.at_path(p).node();
+    const auto cut = p.find_last_of(".[");
+    p = cut == std::string::npos ? "" : p.substr(0, cut);
+  }
+  const int line = node ? static_cast<int>(node->source().begin.line) : 0;
+  _errors.add(line > 0 ? _file.string() + ":" + std::to_string(line) : _file.string(), line,
+              rest);
 }
 
 fs::path file_path(const fs::path& file, const std::string& key, const toml::node* node,

@@ -18,6 +18,45 @@ namespace nct::io
 scene::Error key_error(const std::filesystem::path& file, const std::string& key,
                        const std::string& what);
 
+/// Every problem of a study or fit file: each check that may fail is
+/// attempted, its error (a key_error) placed at the line of its key
+/// ("factor[2].levels") in the file; the file's problems are raised at
+/// once, sorted by line.
+class KeyErrors
+{
+public:
+  KeyErrors(const std::filesystem::path& file, const toml::table& table)
+      : _file(file), _table(table), _errors(file)
+  {
+  }
+  /// Run `check`; true if it threw no scene::Error (else the error is kept).
+  template <class Check>
+  bool attempt(Check&& check)
+  {
+    try
+    {
+      check();
+      return true;
+    }
+    catch (const scene::Error& e)
+    {
+      add(e.what());
+      return false;
+    }
+  }
+  /// A problem's message ("file: key 'k': what", or any other), placed.
+  void add(const std::string& message);
+  bool empty() const { return _errors.empty(); }
+  /// Throw every problem as one scene::Error (none: nothing).
+  void raise() const { _errors.raise(); }
+
+private:
+  std::filesystem::path _file;
+  const toml::table& _table;
+  scene::Errors _errors;
+  std::vector<std::string> _seen;
+};
+
 /// Parse a TOML file (a `what`, e.g. "study file"); throws scene::Error
 /// naming the file, and the line and column of a syntax error.
 toml::table parse_toml(const std::filesystem::path& file, const std::string& what);
@@ -34,10 +73,12 @@ std::string literal(double x);
 std::vector<std::string> string_list(const toml::node& v, const std::filesystem::path& file,
                                      const std::string& key, bool one_allowed);
 
-/// Refuse keys of `t` not in `known`: "unknown key; `table` takes ...".
-/// `where` prefixes the key in the message (e.g. "factor[2].").
+/// Refuse keys of `t` not in `known`: "unknown key; `table` takes ...",
+/// each into `errors`. `where` prefixes the key in the message (e.g.
+/// "factor[2].").
 void only(const toml::table& t, const std::set<std::string>& known,
-          const std::filesystem::path& file, const std::string& where, const std::string& table);
+          const std::filesystem::path& file, const std::string& where, const std::string& table,
+          KeyErrors& errors);
 
 /// A file named by a string at `key`, relative to `file`'s folder; it must
 /// exist. `what` says what it is for the messages.

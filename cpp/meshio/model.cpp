@@ -183,6 +183,14 @@ Groups groups_of_current_model(MPI_Comm comm)
   return g;
 }
 
+GmshSession::GmshSession()
+{
+  gmsh::initialize();
+  gmsh::option::setNumber("General.Terminal", 0);
+}
+
+GmshSession::~GmshSession() { gmsh::finalize(); }
+
 Groups open(MPI_Comm comm, const std::filesystem::path& file,
            const std::map<std::string, double>& parameters)
 {

@@ -42,6 +42,15 @@ struct Model
   Groups groups;                         ///< known on every rank
 };
 
+/// gmsh initialised for the span of a scope, quiet.
+struct GmshSession
+{
+  GmshSession();
+  ~GmshSession();
+  GmshSession(const GmshSession&) = delete;
+  GmshSession& operator=(const GmshSession&) = delete;
+};
+
 /// Broadcast a string from rank 0 (e.g. an error met there) to every rank.
 std::string broadcast(MPI_Comm comm, std::string s);
 

@@ -63,17 +63,17 @@ std::vector<std::array<double, 3>> centreline_points(const AirMesh& a)
 
 } // namespace
 
-AirFields::AirFields(const scene::Scene& scene, io::RunFolder& folder, const meshio::Tagged& mesh,
+AirFields::AirFields(const Settings& settings, io::RunFolder& folder, const meshio::Tagged& mesh,
                      air::Problem& air, const mesh_motion::Problem* motion)
-    : _scene(scene), _air(air), _motion(motion), _fields(folder, mesh.mesh, air.w->function_space()),
+    : _write(settings.output.fields), _interval(settings.air.output_interval), _air(air), _motion(motion), _fields(folder, mesh.mesh, air.w->function_space()),
       _moving(motion ? std::make_unique<io::MovingFields>(folder, mesh.mesh) : nullptr)
 {
 }
 
 void AirFields::sample(double time)
 {
-  const double interval = _scene.real("air.output_interval");
-  if (!_scene.boolean("output.fields") || time < _next_output - 1e-9 * interval)
+  const double interval = _interval;
+  if (!_write || time < _next_output - 1e-9 * interval)
     return;
   const double t0 = MPI_Wtime();
   if (_moving)
@@ -106,7 +106,7 @@ void AirFields::restore(const nlohmann::json& state)
     _fields.resume(state.at("files"));
 }
 
-AirOutput::AirOutput(const scene::Scene& scene, io::RunFolder& folder, const AirMesh& a,
+AirOutput::AirOutput(const Settings& settings, io::RunFolder& folder, const AirMesh& a,
                      air::Problem& air, bool with_eye, const mesh_motion::Problem* motion)
     : _folder(folder), _air(air), _motion(motion), _with_eye(with_eye),
       _centreline(*a.mesh.mesh, centreline_points(a)),
@@ -116,7 +116,7 @@ AirOutput::AirOutput(const scene::Scene& scene, io::RunFolder& folder, const Air
       // without it), a node of the mesh wherever the mesh was moved to.
       _apex(*a.mesh.mesh, {with_eye ? _cornea.points().front()
                                     : std::array<double, 3>{0, a.eye.apex_y, 0}}),
-      _fields(scene, folder, a.mesh, air, motion), _centreline_peak(std::size(centreline_distances), 0.0),
+      _fields(settings, folder, a.mesh, air, motion), _centreline_peak(std::size(centreline_distances), 0.0),
       _apex_max(-std::numeric_limits<double>::infinity())
 {
   _centreline_csv = "t_ms";
@@ -174,14 +174,14 @@ void AirOutput::summarise(nlohmann::json& summary) const
   }
 }
 
-FlowOutput::FlowOutput(const scene::Scene& scene, io::RunFolder& folder,
+FlowOutput::FlowOutput(const Settings& settings, io::RunFolder& folder,
                        const meshio::Tagged& mesh, air::Problem& air,
                        const mesh_motion::Problem* motion)
-    : _folder(folder), _air(air), _fields(scene, folder, mesh, air, motion),
+    : _folder(folder), _air(air), _fields(settings, folder, mesh, air, motion),
       _forces_csv("t_ms,fx_N,fy_N,fz_N\n")
 {
   std::vector<std::int32_t> groups;
-  for (auto& name : scene.strings("output.force_on"))
+  for (auto& name : settings.air.force_on)
     groups.push_back(mesh.groups.surfaces.at(name));
   _forces = !groups.empty();
   if (_forces)
@@ -216,13 +216,14 @@ void FlowOutput::summarise(nlohmann::json& summary) const
     summary["force_N"] = {_last.force[0], _last.force[1], _last.force[2]};
 }
 
-AirRecord::AirRecord(const scene::Scene& scene, io::RunFolder& folder, const Model& model,
-                     air::Problem& air, bool with_eye, const mesh_motion::Problem* motion)
+AirRecord::AirRecord(const Settings& settings, io::RunFolder& folder, const AirMesh& mesh,
+                     air::Problem& air, bool eye, bool with_eye,
+                     const mesh_motion::Problem* motion)
 {
-  if (model.eye)
-    _eye.emplace(scene, folder, *model.air_mesh, air, with_eye, motion);
+  if (eye)
+    _eye.emplace(settings, folder, mesh, air, with_eye, motion);
   else
-    _flow.emplace(scene, folder, model.air_mesh->mesh, air, motion);
+    _flow.emplace(settings, folder, mesh.mesh, air, motion);
 }
 
 void AirRecord::measure()

@@ -16,7 +16,7 @@
 #include "mesh_motion/problem.h"
 #include "meshio/model.h"
 #include "run/model.h"
-#include "scene/scene.h"
+#include "settings/settings.h"
 
 namespace nct
 {
@@ -28,7 +28,7 @@ class AirFields
 {
 public:
   /// `motion`: the mesh motion, or null for a fixed mesh.
-  AirFields(const scene::Scene& scene, io::RunFolder& folder, const meshio::Tagged& mesh,
+  AirFields(const Settings& settings, io::RunFolder& folder, const meshio::Tagged& mesh,
             air::Problem& air, const mesh_motion::Problem* motion);
   /// Write the fields at `time` if they are due (update_fields done).
   void sample(double time);
@@ -39,7 +39,8 @@ public:
   void restore(const nlohmann::json& state);
 
 private:
-  const scene::Scene& _scene;
+  bool _write;      ///< output.fields
+  double _interval; ///< air.output_interval [ms]
   air::Problem& _air;
   const mesh_motion::Problem* _motion;
   io::Fields _fields;                        ///< on a fixed mesh
@@ -64,7 +65,7 @@ class AirOutput
 public:
   /// Find the probes on the air mesh as it is now (the reference of a
   /// moving one). `motion`: the mesh motion, or null for a fixed mesh.
-  AirOutput(const scene::Scene& scene, io::RunFolder& folder, const AirMesh& mesh,
+  AirOutput(const Settings& settings, io::RunFolder& folder, const AirMesh& mesh,
             air::Problem& air, bool with_eye, const mesh_motion::Problem* motion);
 
   struct Sample
@@ -109,7 +110,7 @@ class FlowOutput
 {
 public:
   /// `motion`: the mesh motion, or null for a fixed mesh.
-  FlowOutput(const scene::Scene& scene, io::RunFolder& folder, const meshio::Tagged& mesh,
+  FlowOutput(const Settings& settings, io::RunFolder& folder, const meshio::Tagged& mesh,
              air::Problem& air, const mesh_motion::Problem* motion);
 
   struct Sample
@@ -125,6 +126,7 @@ public:
   Sample sample(double time);
   /// forces.csv, whole.
   void write_tables() const;
+  double t_output() const { return _fields.t_output; }
   /// The last force and the largest speed into the summary.
   void summarise(nlohmann::json& summary) const;
   /// What has been recorded (the tables, the peaks), for a checkpoint;
@@ -150,10 +152,11 @@ private:
 class AirRecord
 {
 public:
-  /// `with_eye`: the eye is in the air (a rigid or coupled wall); `motion`:
-  /// the mesh motion, or null for a fixed mesh.
-  AirRecord(const scene::Scene& scene, io::RunFolder& folder, const Model& model,
-            air::Problem& air, bool with_eye, const mesh_motion::Problem* motion);
+  /// `eye`: the idealised eye's air (else a file mesh's fluid); `with_eye`:
+  /// the eye is in the air (a rigid or coupled wall); `motion`: the mesh
+  /// motion, or null for a fixed mesh.
+  AirRecord(const Settings& settings, io::RunFolder& folder, const AirMesh& mesh,
+            air::Problem& air, bool eye, bool with_eye, const mesh_motion::Problem* motion);
 
   struct Sample
   {
@@ -167,6 +170,8 @@ public:
   Sample sample(double time);
   void write_tables() const;
   void summarise(nlohmann::json& summary) const;
+  /// Wall time spent writing fields [s].
+  double t_output() const { return _eye ? _eye->t_output() : _flow->t_output(); }
   /// The eye's record, or null on a file mesh.
   const AirOutput* eye() const { return _eye ? &*_eye : nullptr; }
   /// What has been recorded (the tables, the peaks), for a checkpoint;

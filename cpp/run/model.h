@@ -1,28 +1,26 @@
-// A scene's model: the mesh with its parts and boundaries, and the solid on it.
+// A scene's model: the physics blocks it switches on, on their meshes.
 #pragma once
 
 #include <array>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include <mpi.h>
+#include <nlohmann/json.hpp>
 
 #include "air/domain.h"
-#include "air/problem.h"
 #include "eye/geometry.h"
-#include "fsi/coupled.h"
-#include "mesh_motion/problem.h"
+#include "io/checkpoint.h"
+#include "io/output.h"
 #include "meshio/model.h"
-#include "puff/load.h"
-#include "scene/scene.h"
+#include "settings/settings.h"
 #include "solid/problem.h"
 
 namespace nct
 {
 
-/// Everything a scene's mesh brings: the distributed mesh, its parts and
+/// Everything the solid's mesh brings: the distributed mesh, its parts and
 /// boundaries, how fibres are laid, where volumes and probes are taken.
 struct MeshSetup
 {
@@ -38,47 +36,74 @@ struct MeshSetup
 
 /// The air's mesh: the air domain meshed with the idealised eye (or in
 /// its place) in one gmsh model, so that the eye's anterior surface is
-/// the air's wall node for node.
+/// the air's wall node for node; or a file mesh's fluid groups.
 struct AirMesh
 {
   meshio::Tagged mesh;
   air::Domain domain;
   eye::Derived eye;  ///< the eye's shape (apex_y), also without the eye
   std::int64_t eye_cells = 0, air_cells = 0; ///< tetrahedra of the whole model
-  double t_mesh = 0; ///< wall time of meshing and distribution [s]
 };
 
-/// A scene's model: the physics blocks it switches on, on their meshes.
+/// A physics block of a model: its unknowns and forms on its mesh, and
+/// what a run needs of each block alike.
+class Block
+{
+public:
+  virtual ~Block() = default;
+  /// Its name in checkpoints ("solid", "air", "mesh_motion", "coupling").
+  virtual const char* name() const = 0;
+  /// What it is (mesh, degree, unknowns) into the summary and the log.
+  virtual void describe(nlohmann::json& summary, io::RunFolder& folder) const = 0;
+  /// Its forms' and mesh's identity: a checkpoint must match it.
+  virtual std::string identity() const { return ""; }
+  /// Its state at a checkpoint (fields into `writer`, the rest returned);
+  /// restore() takes it back, its files continued in `folder`. Collective.
+  virtual nlohmann::json save(io::CheckpointWriter& writer) const = 0;
+  virtual void restore(const io::CheckpointReader& checkpoint, const nlohmann::json& state,
+                       io::RunFolder& folder)
+      = 0;
+  /// Its tables so far, whole (also when a run fails).
+  virtual void write_tables() const {}
+  /// Its final state into the summary, once the run is through.
+  virtual void summarise(nlohmann::json&) const {}
+  /// Wall time spent writing its fields [s].
+  virtual double t_output() const { return 0; }
+};
+
+class SolidBlock;
+class AirBlock;
+class MeshMotionBlock;
+class CouplingBlock;
+
+/// A scene's model: the blocks it switches on.
 /// - the solid (every scene but the air alone): its mesh, built or read;
 /// - the air (puff.load = "air": alone, on a fixed mesh about a rigid eye
 ///   or none; "fsi": on a moving mesh about the eye, meshed with it);
 /// - the mesh motion and the coupling of the solid and the air ("fsi").
-struct Model
+class Model
 {
-  MeshSetup setup;
-  std::unique_ptr<solid::Problem> problem; ///< the solid, or null
+public:
+  Model(Model&&) noexcept;
+  ~Model();
+  /// The settings the blocks were built from (theirs for the model's life).
+  std::shared_ptr<const Settings> settings;
   bool eye = false;   ///< the parametric eye (else an external mesh)
   double t_mesh = 0;  ///< wall time of meshing and distribution [s]
-  double t_setup = 0; ///< wall time of the problem's setup [s]
-  std::optional<AirMesh> air_mesh;
-  std::unique_ptr<air::Problem> air;
-  std::unique_ptr<mesh_motion::Problem> motion;
-  std::unique_ptr<fsi::Coupled> coupled;
+  double t_setup = 0; ///< wall time of the blocks' setup [s]
+  std::unique_ptr<SolidBlock> solid;
+  std::unique_ptr<AirBlock> air;
+  std::unique_ptr<MeshMotionBlock> mesh_motion;
+  std::unique_ptr<CouplingBlock> coupling;
+  /// The blocks there are, in the order above.
+  std::vector<Block*> blocks() const;
+
+private:
+  Model() = default;
+  friend Model make_model(MPI_Comm comm, const Input& input);
 };
 
-/// Build the scene's model. Throws scene::Error on bad input.
-Model make_model(MPI_Comm comm, const scene::Scene& scene);
-
-/// The puff's air pressure p(r, t) [mmHg] (puff.load), or null for none.
-/// Throws scene::Error for a table that cannot be read.
-std::unique_ptr<puff::Load> puff_load(const scene::Scene& scene);
-/// The measured pulse's shape in time from puff.peak, rise_rate,
-/// fall_rate and pulse_duration; throws scene::Error naming the keys.
-puff::PulseShape pulse_shape(const scene::Scene& scene);
-
-/// The checks of a scene that need more than its keys: the eye's geometry,
-/// an external mesh's groups against the scene's materials and boundaries.
-/// Nothing is meshed; throws scene::Error.
-void check(MPI_Comm comm, const scene::Scene& scene);
+/// Mesh the scene and build its blocks. Collective.
+Model make_model(MPI_Comm comm, const Input& input);
 
 } // namespace nct

@@ -1,17 +1,16 @@
-// The phases of a run (design.md sections 6-9): zero pressure, inflate,
-// close, press, rest, and the puff: prescribed on the solid, the air
-// alone about a rigid eye, or the air and the eye coupled.
+// The phases of a run (docs/physics.md sections 6-9): zero pressure,
+// inflate, close, press, rest, and the puff: prescribed on the solid, the
+// air alone about a rigid eye, or the air and the eye coupled.
 #include <cmath>
 #include <limits>
 #include <utility>
 
 #include <dolfinx/io/XDMFFile.h>
-#include <petscksp.h>
 
-#include "air/inlet.h"
 #include "io/format.h"
-#include "run/air_output.h"
+#include "run/air_block.h"
 #include "run/run.h"
+#include "run/solid_block.h"
 #include "run/timeline.h"
 #include "zero_pressure/zero_pressure.h"
 
@@ -24,11 +23,11 @@ constexpr double mmHg = 1.333224e-4; // MPa
 using io::format;
 
 /// Each cavity's volume of the current geometry at u = 0, under `label`.
-void report_volumes(RunState& s, const std::string& label)
+void report_volumes(RunState& s, const SolidBlock& solid, const std::string& label)
 {
-  auto volumes = s.model.problem->cavity_volumes();
+  auto volumes = solid.problem.cavity_volumes();
   for (std::size_t c = 0; c < volumes.size(); ++c)
-    s.summary[s.model.setup.cavity_names[c] + "_volume_" + label + "_mm3"] = volumes[c];
+    s.summary[solid.mesh.cavity_names[c] + "_volume_" + label + "_mm3"] = volumes[c];
 }
 
 /// Write the mesh with the node coordinates `x` (geometry layout) to name.xdmf.
@@ -40,13 +39,54 @@ void write_geometry(const io::RunFolder& folder, const dolfinx::mesh::Mesh& mesh
   file.write_mesh(mesh);
 }
 
-/// The puff's biomarkers (design.md sections 9-10) into the summary.
-void summarise_puff(RunState& s)
+/// The solid in dynamics from now on (once: its kept factorisation is
+/// dropped), its record open.
+void start_dynamics(RunState& s, SolidBlock& solid, double t)
 {
-  const auto& frames = *s.frames;
+  if (!solid.dynamic())
+  {
+    solid.start_dynamics();
+    s.solid_newton().reset();
+  }
+  solid.open_output(s.folder, s.summary, t);
+}
+
+/// A solid's converged step: the phase's keys and the blocks' columns
+/// (`columns`) into the summary's steps and the log (with `text`); a
+/// dynamic step's state into the frames (the log line adds their apex
+/// displacement, from the start of the dynamics). Returns the first
+/// probe's axial displacement [mm] (0 without probes).
+double record_solid_step(RunState& s, SolidBlock& solid, nlohmann::json step, double t,
+                         std::optional<double> dt, const solver::NewtonReport& report,
+                         const biomarkers::Columns& columns = {}, std::string text = "")
+{
+  if (dt)
+    step["dt_ms"] = *dt;
+  for (const auto& [name, value] : columns)
+    step[name] = value;
+  std::string line;
+  solid.record(step, line, t);
+  const std::string probe = solid.mesh.probe_names.empty()
+                                ? ""
+                                : solid.mesh.probe_names[0] + "_displacement_mm";
+  const double axial = probe.empty() ? 0.0 : step[probe][1].get<double>();
+  if (dt)
+  {
+    solid.add_frame(t, *dt, report, columns);
+    if (solid.frames)
+      text = format("  (frames %+.5f mm)", solid.frames->last_apex()) + text;
+  }
+  s.record_step(std::move(step), t, report, line + text);
+  return axial;
+}
+
+/// The puff's biomarkers (docs/physics.md sections 9-10) into the summary.
+void summarise_puff(RunState& s, const SolidBlock& solid)
+{
+  const auto& frames = *solid.frames;
+  const PuffSettings& puff = s.settings.puff;
   nlohmann::json& summary = s.summary;
-  const auto r = frames.analyse(s.scene.real("puff.apex_window"),
-                                s.scene.real("puff.radius_window"), s.scene.real("puff.flatness"));
+  const auto r = frames.analyse(puff.apex_window, puff.radius_window, puff.flatness);
   summary["frames"] = frames.frames();
   summary["hc_time_ms"] = r.hc_time;
   summary["deformation_amplitude_mm"] = r.deformation_amplitude;
@@ -78,7 +118,7 @@ void summarise_puff(RunState& s)
       summary[key] = **ratio;
   summary["apex_pressure_hc_mmHg"] = frames.at("apex_air_pressure_mmHg", r.hc_time);
   summary["apex_pressure_max_mmHg"] = frames.max("apex_air_pressure_mmHg");
-  const auto& cavities = s.model.setup.cavity_names;
+  const auto& cavities = solid.mesh.cavity_names;
   std::optional<double> sp_a1;
   if (!cavities.empty())
   {
@@ -111,115 +151,31 @@ void summarise_puff(RunState& s)
   s.folder.log(text);
 }
 
-/// The inlet's speed [mm/ms] at time t: on the eye, the puff's Gaussian in
-/// time or the square root of the measured pulse's shape (air.inlet_history);
-/// on a file mesh, inlet.velocity ramped over inlet.ramp_time.
-std::function<double(double)> inlet_velocity(const scene::Scene& s)
-{
-  if (s.string("mesh.source") == "file")
-  {
-    // The profile holds the speeds (a table's, or the unit shape times inlet.velocity).
-    air::Inlet ramp;
-    ramp.ramp_time = s.real("inlet.ramp_time");
-    const double U = s.string("inlet.profile") == "table" ? 1.0 : s.real("inlet.velocity");
-    return [=](double t) { return U * ramp.ramp(t); };
-  }
-  const double U = s.real("air.inlet_velocity");
-  if (s.string("air.inlet_history") == "pulse")
-    return [U, shape = pulse_shape(s)](double t) { return U * std::sqrt(shape(t)); };
-  const double peak_time = s.real("puff.peak_time"), width_t = s.real("puff.width_t");
-  return [=](double t)
-  { return U * std::exp(-(t - peak_time) * (t - peak_time) / (2 * width_t * width_t)); };
-}
-
-/// The coupled system's linear solver (fsi.linear_solver), as PETSc
-/// options under the prefix "fsi_" unless given (e.g. by --petsc): MUMPS
-/// LU on the whole; or FGMRES preconditioned by block Gauss-Seidel over
-/// the solid and the air with its mesh motion, each block by MUMPS LU.
-void set_coupled_solver_options(const scene::Scene& s)
-{
-  std::vector<std::pair<std::string, std::string>> options;
-  if (s.string("fsi.linear_solver") == "lu")
-    options = {{"ksp_type", "preonly"},
-               {"pc_type", "lu"},
-               {"pc_factor_mat_solver_type", "mumps"},
-               {"mat_mumps_icntl_7", "4"}};
-  else
-  {
-    options = {{"ksp_type", "fgmres"},     {"ksp_rtol", "1e-10"},
-               {"ksp_atol", "1e-14"},      {"ksp_max_it", "200"},
-               {"ksp_gmres_restart", "200"}, {"pc_type", "fieldsplit"},
-               {"pc_fieldsplit_type", "multiplicative"}};
-    for (const char* split : {"solid", "air"})
-      for (auto [key, value] :
-           {std::pair{"ksp_type", "preonly"}, std::pair{"pc_type", "lu"},
-            std::pair{"pc_factor_mat_solver_type", "mumps"}, std::pair{"mat_mumps_icntl_7", "4"}})
-        options.push_back({std::string("fieldsplit_") + split + "_" + key, value});
-  }
-  for (auto& [key, value] : options)
-  {
-    const std::string name = "-fsi_" + key;
-    PetscBool given = PETSC_FALSE;
-    PetscOptionsHasName(nullptr, nullptr, name.c_str(), &given);
-    if (!given)
-      PetscOptionsSetValue(nullptr, name.c_str(), value.c_str());
-  }
-}
-
-/// The coupled system's fieldsplit blocks: the solid's rows, and the air's
-/// with the mesh motion's.
-void set_coupled_fieldsplit(KSP ksp, const solver::Monolithic& unknowns)
-{
-  PC pc;
-  KSPGetPC(ksp, &pc);
-  PetscBool fieldsplit = PETSC_FALSE;
-  PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCFIELDSPLIT, &fieldsplit);
-  if (!fieldsplit)
-    return;
-  IS solid = unknowns.index_set(0), air = unknowns.index_set(1), mesh = unknowns.index_set(2),
-     air_and_mesh;
-  ISExpand(air, mesh, &air_and_mesh);
-  PCFieldSplitSetIS(pc, "solid", solid);
-  PCFieldSplitSetIS(pc, "air", air_and_mesh);
-  for (IS* is : {&solid, &air, &mesh, &air_and_mesh})
-    ISDestroy(is);
-}
-
-/// The solid's time integration for the Stepper.
-Stepper::Dynamics solid_dynamics(RunState& s)
-{
-  auto& problem = *s.model.problem;
-  const double rho_inf = s.scene.real("dynamics.rho_inf"), damping = s.scene.real("dynamics.damping");
-  return {[&problem, rho_inf, damping](double dt) { problem.set_time_step({dt, rho_inf, damping}); },
-          [&problem] { return problem.load_level(); }, [&problem] { problem.advance(); },
-          [&problem] { problem.predict(); }};
-}
-
 /// Phase 1 (zero_pressure.enabled): the mesh is the eye imaged at the
 /// IOP; find the stress-free geometry whose inflation gives it back.
 class ZeroPressure : public Phase
 {
 public:
+  explicit ZeroPressure(SolidBlock& solid) : _solid(solid) {}
   const char* name() const override { return "zero_pressure"; }
   void run(RunState& s) override
   {
-    auto& problem = *s.model.problem;
-    auto& mesh = *s.model.setup.mesh.mesh;
-    s.x_imaged.assign(mesh.geometry().x().begin(), mesh.geometry().x().end());
-    report_volumes(s, "imaged");
-    const zero_pressure::Settings zp{s.scene.real("zero_pressure.tolerance"),
-                                     s.scene.integer("zero_pressure.max_iterations"),
-                                     s.scene.string("zero_pressure.acceleration") == "aitken"};
+    auto& problem = _solid.problem;
+    auto& mesh = *_solid.mesh.mesh.mesh;
+    _solid.x_imaged.assign(mesh.geometry().x().begin(), mesh.geometry().x().end());
+    report_volumes(s, _solid, "imaged");
+    const ZeroPressureSettings& zs = s.settings.solid.zero_pressure;
+    const zero_pressure::Settings& zp = zs.fixed_point;
     const double t = MPI_Wtime();
     // Newton solves the pressurised shapes to a hundredth of the geometric
     // tolerance (the increment test, mm): what the fixed point needs of
     // them, where the residual test alone would ask for 1e-9 N at each.
-    solver::NewtonSettings settings = s.settings;
-    settings.increment_tol = 0.01 * zp.tolerance;
-    Stepper stepper = make_stepper(s.scene, settings, s.folder);
+    SolverSettings solver = s.settings.solver;
+    solver.newton.increment_tol = 0.01 * zp.tolerance;
+    Stepper stepper = make_stepper(solver, s.folder);
     auto& newton = s.solid_newton();
     const std::size_t n_cavities = problem.cavities();
-    const double iop = s.scene.real("inflate.iop") * mmHg;
+    const double iop = s.settings.solid.cavity.iop * mmHg;
     bool first = true;
     // Inflate the current geometry to the IOP: one Newton solve from the
     // last solution (the geometry moved little, and a kept factorisation
@@ -228,7 +184,7 @@ public:
     {
       if (!first)
       {
-        auto report = newton.solve(s.open->system(), settings);
+        auto report = newton.solve(_solid.system(), solver.newton);
         stepper.newton_iterations += report.iterations;
         if (report.converged)
           return;
@@ -238,8 +194,8 @@ public:
       }
       first = false;
       problem.u->x()->set(0.0);
-      stepper.ramp(newton, "zero-pressure inflation", s.scene.integer("inflate.steps"),
-                   s.open->system(),
+      stepper.ramp(newton, "zero-pressure inflation", s.settings.solid.cavity.inflate_steps,
+                   _solid.system(),
                    [&](double f)
                    { problem.set_cavity_pressures(std::vector<double>(n_cavities, f * iop)); },
                    [](double, const auto&) {});
@@ -268,52 +224,85 @@ public:
                             "(zero_pressure.max_iterations); the last residual is "
                             "%.3e mm (max), %.3e mm (rms) against a tolerance of %.3e mm",
                             zp.max_iterations, last.max, last.rms, zp.tolerance));
-    s.probes = zero_pressure::carry(mesh, s.x_imaged, s.model.setup.probes);
+    _solid.probes = zero_pressure::carry(mesh, _solid.x_imaged, _solid.mesh.probes);
     // The last pressurised state is the inflated stress-free geometry: the
     // inflate phase may start from it (with the kept factorisation).
-    if (s.scene.string("zero_pressure.round_trip") == "reuse")
+    if (zs.reuse)
     {
       const auto u = problem.u->x()->array();
-      s.zero_pressure_inflated.assign(u.begin(), u.end());
+      _solid.inflated.assign(u.begin(), u.end());
     }
     else
       newton.reset();
     problem.u->x()->set(0.0);
-    if (s.scene.boolean("output.fields"))
+    if (s.settings.output.fields)
     {
-      write_geometry(s.folder, mesh, s.x_imaged, "geometry_imaged");
+      write_geometry(s.folder, mesh, _solid.x_imaged, "geometry_imaged");
       write_geometry(s.folder, mesh,
                      std::vector<double>(mesh.geometry().x().begin(), mesh.geometry().x().end()),
                      "geometry_stress_free");
     }
   }
+
+private:
+  SolidBlock& _solid;
 };
+
+/// A quasi-static phase's converged step at load fraction f.
+void record_quasi_static(RunState& s, SolidBlock& solid, const char* phase, double t0, double f,
+                         double press, const solver::NewtonReport& report)
+{
+  record_solid_step(s, solid,
+                    {{"phase", phase}, {"load_fraction", f}, {"press_mmHg", press / mmHg}},
+                    t0 + f, std::nullopt, report);
+}
 
 /// Phase 2: the cavities inflated by a pressure ramp to the IOP; after
 /// zero pressure, in one step from its last pressurised state.
 class Inflate : public Phase
 {
 public:
+  Inflate(SolidBlock& solid, double t0) : _solid(solid), _t0(t0) {}
   const char* name() const override { return "inflate"; }
+  void run(RunState& s) override
+  {
+    _solid.open_output(s.folder, s.summary, _t0);
+    if (!from_zero_pressure(s))
+      s.stepper.ramp(s.solid_newton(), "inflate", s.settings.solid.cavity.inflate_steps,
+                     _solid.system(), [&](double f) { _solid.inflate(f); },
+                     [&](double f, const auto& report)
+                     { record_quasi_static(s, _solid, "inflate", _t0, f, 0.0, report); });
+    if (_solid.x_imaged.empty())
+      return;
+    // The round trip: the inflated stress-free geometry against the imaged one.
+    const auto [max, rms] = zero_pressure::mismatch(_solid.problem, _solid.x_imaged);
+    s.summary["zero_pressure_round_trip_max_mm"] = max;
+    s.summary["zero_pressure_round_trip_rms_mm"] = rms;
+    s.folder.log(format("round trip: the inflated stress-free geometry is %.3e mm (max), "
+                        "%.3e mm (rms) from the imaged one",
+                        max, rms));
+  }
+
+private:
   /// Zero pressure's last inflation of the stress-free geometry is this
   /// phase's end: one Newton solve from it at the run's tolerance (the
   /// ramp's states in between are not recomputed). False (state back at
   /// rest) if there is none or it does not converge.
-  static bool inflate_from_zero_pressure(RunState& s, const std::function<void(double)>& load)
+  bool from_zero_pressure(RunState& s)
   {
-    if (s.zero_pressure_inflated.empty())
+    if (_solid.inflated.empty())
       return false;
-    auto& problem = *s.model.problem;
+    auto& problem = _solid.problem;
     auto u = problem.u->x()->mutable_array();
-    std::copy(s.zero_pressure_inflated.begin(), s.zero_pressure_inflated.end(), u.begin());
-    s.zero_pressure_inflated.clear();
-    load(1.0);
+    std::copy(_solid.inflated.begin(), _solid.inflated.end(), u.begin());
+    _solid.inflated.clear();
+    _solid.inflate(1.0);
     auto& newton = s.solid_newton();
-    const auto report = newton.solve(s.open->system(), s.settings);
+    const auto report = newton.solve(_solid.system(), s.settings.solver.newton);
     s.stepper.newton_iterations += report.iterations;
     if (report.converged)
     {
-      s.quasi_static_step("inflate", 1.0, report);
+      record_quasi_static(s, _solid, "inflate", _t0, 1.0, 0.0, report);
       return true;
     }
     s.folder.log(format("  inflate: Newton from zero pressure's last state failed (%s); "
@@ -323,72 +312,53 @@ public:
     newton.reset();
     return false;
   }
-  void run(RunState& s) override
-  {
-    auto& problem = *s.model.problem;
-    const double iop = s.scene.real("inflate.iop") * mmHg;
-    auto load = [&](double f)
-    {
-      s.open_pressures.assign(problem.cavities(), f * iop);
-      problem.set_cavity_pressures(s.open_pressures);
-    };
-    s.output();
-    if (!inflate_from_zero_pressure(s, load))
-      s.stepper.ramp(s.solid_newton(), "inflate", s.scene.integer("inflate.steps"),
-                     s.open->system(), load,
-                     [&](double f, const auto& report) { s.quasi_static_step("inflate", f, report); });
-    s.t0 += 1;
-    if (s.x_imaged.empty())
-      return;
-    // The round trip: the inflated stress-free geometry against the imaged one.
-    const auto [max, rms] = zero_pressure::mismatch(problem, s.x_imaged);
-    s.summary["zero_pressure_round_trip_max_mm"] = max;
-    s.summary["zero_pressure_round_trip_rms_mm"] = rms;
-    s.folder.log(format("round trip: the inflated stress-free geometry is %.3e mm (max), "
-                        "%.3e mm (rms) from the imaged one",
-                        max, rms));
-  }
+
+  SolidBlock& _solid;
+  double _t0; ///< the phase's start in pseudo-time
 };
 
 /// Phase 3 (cavity.model = "closed"): each cavity keeps the volume it has now.
 class Close : public Phase
 {
 public:
+  explicit Close(SolidBlock& solid) : _solid(solid) {}
   const char* name() const override { return "close"; }
   void run(RunState& s) override
   {
-    s.closed.emplace(*s.model.problem, s.open_pressures);
+    _solid.close();
     std::string text;
-    const auto& names = s.model.setup.cavity_names;
+    const auto& names = _solid.mesh.cavity_names;
     for (std::size_t c = 0; c < names.size(); ++c)
     {
-      s.summary[names[c] + "_volume_closed_mm3"] = s.closed->targets()[c];
-      text += format("  %s %.4f mm3", names[c].c_str(), s.closed->targets()[c]);
+      s.summary[names[c] + "_volume_closed_mm3"] = _solid.closed()->targets()[c];
+      text += format("  %s %.4f mm3", names[c].c_str(), _solid.closed()->targets()[c]);
     }
     s.folder.log("close: volumes held at" + text);
   }
+
+private:
+  SolidBlock& _solid;
 };
 
-/// Phase 4 (press.pressure != 0): a follower pressure ramped on the loaded surface.
+/// Phase 4 (press.pressure != 0): a follower pressure ramped on the pressed surface.
 class Press : public Phase
 {
 public:
+  Press(SolidBlock& solid, double t0) : _solid(solid), _t0(t0) {}
   const char* name() const override { return "press"; }
   void run(RunState& s) override
   {
-    auto& problem = *s.model.problem;
-    s.output();
-    problem.set_surface_profile(s.press_profile);
-    s.stepper.ramp(
-        s.solid_newton(), "press", s.scene.integer("press.steps"), s.solid_system(),
-        [&](double f)
-        {
-          s.surface_pressure = f * s.press_peak;
-          problem.set_surface_pressure(s.surface_pressure);
-        },
-        [&](double f, const auto& report) { s.quasi_static_step("press", f, report); });
-    s.t0 += 1;
+    _solid.open_output(s.folder, s.summary, _t0);
+    const double peak = s.settings.solid.press.pressure * mmHg;
+    s.stepper.ramp(s.solid_newton(), "press", s.settings.solid.press.steps, _solid.system(),
+                   [&](double f) { _solid.press(f); },
+                   [&](double f, const auto& report)
+                   { record_quasi_static(s, _solid, "press", _t0, f, f * peak, report); });
   }
+
+private:
+  SolidBlock& _solid;
+  double _t0; ///< the phase's start in pseudo-time
 };
 
 /// Phase 5 (rest.duration > 0): dynamics from rest with the loads held;
@@ -396,29 +366,31 @@ public:
 class Rest : public Phase
 {
 public:
-  const char* name() const override { return "rest"; }
   /// `columns`: the puff's state columns, at rest (the frames' columns
   /// are the same at every step).
-  explicit Rest(biomarkers::Columns columns) : _columns(std::move(columns)) {}
+  Rest(SolidBlock& solid, biomarkers::Columns columns)
+      : _solid(solid), _columns(std::move(columns))
+  {
+  }
+  const char* name() const override { return "rest"; }
   void run(RunState& s) override
   {
-    const double rest = s.scene.real("rest.duration");
-    s.start_dynamics();
-    s.set_surface_load(-rest);
+    const double rest = s.settings.solid.rest_duration;
+    start_dynamics(s, _solid, -rest);
+    _solid.set_load(-rest);
     if (!_resumed)
-      _apex_rest = s.probes.empty() ? 0.0 : s.output().probe_displacement()[0][1];
+      _apex_rest = _solid.probes.empty() ? 0.0 : _solid.probe_displacement()[0][1];
     nlohmann::json keys{{"phase", "rest"}};
     if (_columns.empty())
       keys["apex_air_pressure_mmHg"] = 0.0;
-    s.stepper.march(s.solid_newton(), "rest", -rest, rest, s.scene.real("dynamics.dt"),
-                    solid_dynamics(s), s.solid_system(), [](double) {},
+    s.stepper.march(s.solid_newton(), "rest", -rest, rest, s.settings.solid.dynamics.dt,
+                    _solid.dynamics(), _solid.system(), [](double) {},
                     [&](double t, double dt, const auto& report)
                     {
-                      _drift = std::max(_drift, std::abs(s.dynamic_step(keys, t, dt, report,
-                                                                        _columns)
-                                                         - _apex_rest));
+                      const double u = record_solid_step(s, _solid, keys, t, dt, report, _columns);
+                      _drift = std::max(_drift, std::abs(u - _apex_rest));
                     });
-    if (!s.probes.empty())
+    if (!_solid.probes.empty())
       s.summary["rest_drift_mm"] = _drift;
   }
   nlohmann::json save() const override { return {_apex_rest, _drift}; }
@@ -428,382 +400,252 @@ public:
   }
 
 private:
+  SolidBlock& _solid;
   biomarkers::Columns _columns;
   double _apex_rest = 0, _drift = 0; ///< the apex at rest, its largest drift [mm]
   bool _resumed = false;
 };
 
-/// Phase 6, prescribed (puff.load = "gaussian", "pulse" or "table"): the air as a
-/// follower pressure p(r, t) on the anterior cornea.
-class PrescribedPuff : public Phase
+/// Phase 6, the puff: every kind marches its blocks' system from t = 0 for
+/// puff.duration and records each converged step the same way (the
+/// summary's steps, the log, the frames of a puff on the eye); the kinds
+/// differ in what they march and sample.
+class Puff : public Phase
 {
 public:
   const char* name() const override { return "puff"; }
   void run(RunState& s) override
   {
-    s.start_dynamics();
-    if (!s.model.eye)
+    const bool resumed = s.stepper.resume.has_value();
+    start(s, resumed);
+    auto& newton = this->newton(s);
+    try
+    {
+      s.stepper.march(newton, march_name(), 0, s.settings.puff.duration, dt(s), dynamics(),
+                      system(), [&](double t) { load(t); },
+                      [&](double t, double dt, const solver::NewtonReport& report)
+                      { record(s, t, dt, report); });
+    }
+    catch (...)
+    {
+      s.write_tables();
+      throw;
+    }
+    s.write_tables();
+    finish(s);
+  }
+
+protected:
+  /// Get ready to march: the dynamics started, the records opened, the
+  /// state at t = 0 recorded (unless `resumed` from a checkpoint).
+  virtual void start(RunState& s, bool resumed) = 0;
+  virtual solver::Newton& newton(RunState& s) = 0;
+  virtual solver::System system() = 0;
+  virtual Stepper::Dynamics dynamics() = 0;
+  /// The nominal time step [ms].
+  virtual double dt(const RunState& s) const = 0;
+  virtual const char* march_name() const { return "puff"; }
+  /// The loads at time t.
+  virtual void load(double t) = 0;
+  /// A converged step into the record.
+  virtual void record(RunState& s, double t, double dt, const solver::NewtonReport& report) = 0;
+  /// After the march: the summary's results.
+  virtual void finish(RunState& s) = 0;
+};
+
+/// The puff on the solid (prescribed, or coupled): the frames' first state
+/// at t = 0, the biomarkers at the end.
+class SolidPuff : public Puff
+{
+public:
+  explicit SolidPuff(SolidBlock& solid) : _solid(solid) {}
+
+protected:
+  void start_solid(RunState& s, bool resumed, const biomarkers::Columns& first = {})
+  {
+    start_dynamics(s, _solid, 0);
+    if (!resumed && _solid.frames && _solid.frames->frames() == 0)
+      _solid.add_frame(0, 0, solver::NewtonReport{true, 0, {0.0}, ""}, first);
+  }
+  double dt(const RunState& s) const override { return s.settings.solid.dynamics.dt; }
+  void finish_solid(RunState& s)
+  {
+    if (_solid.frames)
+      summarise_puff(s, _solid);
+  }
+  SolidBlock& _solid;
+};
+
+/// puff.load = "gaussian", "pulse" or "table": the air as a follower
+/// pressure p(r, t) on the anterior cornea.
+class PrescribedPuff : public SolidPuff
+{
+public:
+  using SolidPuff::SolidPuff;
+
+protected:
+  void start(RunState& s, bool resumed) override
+  {
+    if (!_solid.eye)
       s.folder.log("puff: the biomarkers need the idealised eye's cornea; this file mesh "
                    "gets the puff's load and its steps, no frames");
-    if (s.frames && s.frames->frames() == 0)
-      s.add_frame(0, 0, solver::NewtonReport{true, 0, {0.0}, ""}, {});
-    auto apex = [&](double t) { return (*s.prescribed)(0, t); };
-    s.stepper.march(s.solid_newton(), "puff", 0, s.scene.real("puff.duration"),
-                    s.scene.real("dynamics.dt"), solid_dynamics(s), s.solid_system(),
-                    [&](double t) { s.set_surface_load(t); },
-                    [&](double t, double dt, const auto& report) {
-                      s.dynamic_step({{"phase", "puff"}, {"apex_air_pressure_mmHg", apex(t)}},
-                                     t, dt, report);
-                    });
-    if (s.frames)
-    {
-      s.write_tables();
-      summarise_puff(s);
-    }
+    start_solid(s, resumed);
   }
+  solver::Newton& newton(RunState& s) override { return s.solid_newton(); }
+  solver::System system() override { return _solid.system(); }
+  Stepper::Dynamics dynamics() override { return _solid.dynamics(); }
+  void load(double t) override { _solid.set_load(t); }
+  void record(RunState& s, double t, double dt, const solver::NewtonReport& report) override
+  {
+    record_solid_step(s, _solid, {{"phase", "puff"}, {"apex_air_pressure_mmHg", _solid.apex_load(t)}},
+                      t, dt, report);
+  }
+  void finish(RunState& s) override { finish_solid(s); }
 };
 
-/// Phase 6, the air alone (puff.load = "air"): the Corvis jet on a rigid
-/// eye or a free jet, or a file mesh's fluid; no solid phase runs.
-class AirPuff : public Phase
+/// puff.load = "air": the air alone, the Corvis jet on a rigid eye or a
+/// free jet, or a file mesh's fluid; no solid phase runs.
+class AirPuff : public Puff
 {
 public:
-  const char* name() const override { return "puff"; }
-  void run(RunState& s) override
+  explicit AirPuff(AirBlock& air) : _air(air) {}
+
+protected:
+  void start(RunState& s, bool resumed) override
   {
-    auto& air = *s.model.air;
-    const bool file = !s.model.eye;
-    const bool with_eye = !file && s.scene.string("air.eye") == "rigid";
-    if (with_eye)
+    if (_air.with_eye)
       s.folder.log("air: the eye is a rigid wall; the solid phases (zero pressure, inflation, "
                    "rest) are not run");
-    AirRecord out(s.scene, s.folder, s.model, air, with_eye, nullptr);
-    _out = &out;
-    auto& newton = s.newton("air", [&] { return air.create_matrix(); });
-    set_fieldsplit(newton.ksp(), air);
     // Full Newton steps: the energy line search has no energy to follow here.
-    solver::NewtonSettings settings = s.settings;
-    settings.line_search = false;
-    Stepper stepper = make_stepper(s.scene, settings, s.folder);
-    stepper.boundaries = s.stepper.boundaries;
-    stepper.resume = std::exchange(s.stepper.resume, std::nullopt);
-    _stepper = &stepper;
-    const bool resumed = !_resumed.is_null();
-    if (resumed)
+    s.stepper.settings.line_search = false;
+    _air.open_record(s.folder, nullptr);
+    // From rest, the inlet at its t = 0 value; resumed, at the checkpoint's.
+    _air.set_inlet(resumed ? s.stepper.resume->t : 0);
+    if (!resumed)
     {
-      out.restore(_resumed.at("record"));
-      _steps = _resumed.at("steps");
-      _steps_csv = _resumed.at("steps_csv");
-      stepper.newton_iterations = _resumed.at("newton_iterations");
-      stepper.cuts = _resumed.at("cuts");
+      nlohmann::json step;
+      std::string text;
+      _air.record_step(step, text, 0, 0, solver::NewtonReport{true, 0, {0.0}, ""});
     }
-    std::vector<double> no_border;
-    const solver::System system{air.up->x().get(), &no_border,
-                                [&](auto& b, auto&) { air.residual(b); },
-                                [&](Mat J) { air.jacobian(J); }, nullptr, nullptr, nullptr};
-    const auto inlet = inlet_velocity(s.scene);
-    try
-    {
-      // From rest, the inlet at its t = 0 value; resumed, at the checkpoint's.
-      air.set_inlet_scale(inlet(resumed ? stepper.resume->t : 0));
-      if (!resumed)
-      {
-        const auto first = out.sample(0);
-        _steps_csv = "t_ms,dt_ms,newton_iterations,residual_N,inlet_velocity_m_s,"
-                     "apex_pressure_mmHg,max_velocity_m_s,fx_N,fy_N,fz_N,wall_s\n"
-                     + format("0,0,0,0,%.6g,%.6g,%.6g,0,0,0,0\n", inlet(0),
-                              first.apex_pressure, first.max_speed);
-      }
-      const int order = s.scene.integer("air.bdf_order");
-      const Stepper::Dynamics dynamics{[&](double dt) { air.set_time_step(dt, order); },
-                                       [] { return 1.0; },
-                                       [&]
-                                       {
-                                         out.measure();
-                                         air.advance();
-                                       }};
-      double t_step = MPI_Wtime();
-      stepper.march(newton, "air", 0, s.scene.real("puff.duration"), s.scene.real("air.dt"),
-                    dynamics, system, [&](double time) { air.set_inlet_scale(inlet(time)); },
-                    [&](double time, double dt, const solver::NewtonReport& report)
-                    {
-                      const double wall = MPI_Wtime() - t_step;
-                      t_step = MPI_Wtime();
-                      ++_steps;
-                      const auto p = out.sample(time);
-                      _steps_csv += format("%.6g,%.6g,%d,%.6e,%.6g,%.6g,%.6g,%.10g,%.10g,%.10g,"
-                                          "%.3f\n",
-                                          time, dt, report.iterations, report.residuals.back(),
-                                          inlet(time), p.apex_pressure, p.max_speed, p.force[0],
-                                          p.force[1], p.force[2], wall);
-                      const std::string what
-                          = file ? format("force %+.6e %+.6e %+.6e N", p.force[0], p.force[1],
-                                          p.force[2])
-                                 : format("apex %7.3f mmHg", p.apex_pressure);
-                      s.folder.log(format("air t = %7.3f ms  dt %.3g  inlet %6.2f m/s  Newton "
-                                          "%2d  residual %.2e N  %s  max |u| %6.2f m/s  wall "
-                                          "%.2f s",
-                                          time, dt, inlet(time), report.iterations,
-                                          report.residuals.back(), what.c_str(), p.max_speed,
-                                          wall));
-                    });
-    }
-    catch (...)
-    {
-      finish(s, stepper);
-      throw;
-    }
-    finish(s, stepper);
-    s.folder.log(format("done: %d steps, %d Newton iterations, %d step cuts", _steps,
-                        stepper.newton_iterations, stepper.cuts));
-    if (file)
-    {
-      nlohmann::json air_summary;
-      out.summarise(air_summary);
-      s.summary["air"] = air_summary;
-      return;
-    }
-    out.summarise(s.summary);
-    const AirOutput& eye = *out.eye();
-    if (with_eye)
-      s.folder.log(format("apex pressure: max %.3f mmHg at %.3f ms (stagnation 0.5 rho U^2 = "
-                          "%.3f mmHg)",
-                          eye.apex_max(), eye.apex_max_time(),
-                          s.summary["stagnation_pressure_mmHg"].get<double>()));
-    std::string peaks = "centreline peaks:";
-    for (auto& [d, v] : s.summary["centreline_peak_m_s"].items())
-      peaks += format(" %s %.2f m/s;", d.c_str(), v.get<double>());
-    s.folder.log(peaks);
   }
-  nlohmann::json save() const override
+  solver::Newton& newton(RunState& s) override
   {
-    return {{"record", _out->state()},
-            {"steps", _steps},
-            {"steps_csv", _steps_csv},
-            {"newton_iterations", _stepper->newton_iterations},
-            {"cuts", _stepper->cuts}};
+    auto& n = s.newton("air", [&] { return _air.problem.create_matrix(); });
+    _air.set_fieldsplit(n.ksp());
+    return n;
   }
-  void restore(const nlohmann::json& state) override { _resumed = state; }
+  solver::System system() override { return _air.system(); }
+  Stepper::Dynamics dynamics() override { return _air.dynamics(); }
+  double dt(const RunState& s) const override { return s.settings.air.dt; }
+  const char* march_name() const override { return "air"; }
+  void load(double t) override { _air.set_inlet(t); }
+  void record(RunState& s, double t, double dt, const solver::NewtonReport& report) override
+  {
+    nlohmann::json step{{"phase", "puff"}, {"dt_ms", dt}};
+    std::string text;
+    _air.record_step(step, text, t, dt, report);
+    s.record_step(std::move(step), t, report, text);
+  }
+  void finish(RunState& s) override { _air.summarise_record(s.summary, s.folder); }
 
 private:
-  /// The tables so far (whole files) and the stepper's counts.
-  void finish(RunState& s, const Stepper& stepper)
-  {
-    s.summary["steps"] = _steps;
-    s.stepper.newton_iterations += stepper.newton_iterations;
-    s.stepper.cuts += stepper.cuts;
-    s.folder.write_text("steps.csv", _steps_csv);
-    _out->write_tables();
-  }
-
-  /// Velocity and pressure blocks for a fieldsplit preconditioner, as
-  /// index sets of the owned global rows of (u, p).
-  static void set_fieldsplit(KSP ksp, const air::Problem& problem)
-  {
-    PC pc;
-    KSPGetPC(ksp, &pc);
-    const auto& map = *problem.up->function_space()->dofmap()->index_map;
-    const std::int64_t first = map.local_range()[0];
-    for (auto [name, dofs] : {std::pair{"u", &problem.velocity_dofs()},
-                              std::pair{"p", &problem.pressure_dofs()}})
-    {
-      std::vector<PetscInt> rows;
-      for (auto d : *dofs)
-        if (d < map.size_local())
-          rows.push_back(static_cast<PetscInt>(first + d));
-      std::sort(rows.begin(), rows.end());
-      IS is;
-      ISCreateGeneral(map.comm(), static_cast<PetscInt>(rows.size()), rows.data(),
-                      PETSC_COPY_VALUES, &is);
-      PCFieldSplitSetIS(pc, name, is);
-      ISDestroy(&is);
-    }
-  }
-
-  AirRecord* _out = nullptr;  ///< while run() marches
-  Stepper* _stepper = nullptr; ///< its own (full Newton steps), while run() marches
-  int _steps = 0;
-  std::string _steps_csv; ///< steps.csv so far
-  nlohmann::json _resumed; ///< a checkpoint's state of the phase, or null
+  AirBlock& _air;
 };
 
-/// Phase 6, coupled (puff.load = "fsi"): the air and the eye in one
-/// Newton system per step (cpp/fsi), from the solid's state at the end of
-/// the rest; the air starts at rest.
-class CoupledPuff : public Phase
+/// puff.load = "fsi": the air and the eye in one Newton system per step
+/// (cpp/fsi), from the solid's state at the end of the rest; the air
+/// starts at rest.
+class CoupledPuff : public SolidPuff
 {
 public:
-  const char* name() const override { return "puff"; }
-  void run(RunState& s) override
+  CoupledPuff(SolidBlock& solid, AirBlock& air, MeshMotionBlock& motion, CouplingBlock& coupling)
+      : SolidPuff(solid), _air(air), _motion(motion), _coupling(coupling)
   {
-    auto& m = s.model;
-    auto& coupled = *m.coupled;
-    auto& air = *m.air;
-    s.start_dynamics();
-    const bool resumed = !_resumed.is_null(); // RunState::resume restored the coupling
-    if (!resumed)
+  }
+
+protected:
+  void start(RunState& s, bool resumed) override
+  {
+    start_dynamics(s, _solid, 0);
+    auto& coupled = _coupling.coupled;
+    if (!resumed) // else RunState::resume restored the coupling
+    {
       coupled.start();
-    AirRecord out(s.scene, s.folder, m, air, true, m.motion.get());
-    _out = &out;
-    if (resumed)
-    {
-      out.restore(_resumed.at("record"));
-      _worst_jacobian = _resumed.at("worst_jacobian");
-      _worst_power = _resumed.at("worst_power");
-      _largest_power = _resumed.at("largest_power");
+      _coupling.start_energy();
     }
-    const auto inlet = inlet_velocity(s.scene);
-    auto& unknowns = coupled.unknowns();
-    air.set_inlet_scale(inlet(resumed ? s.stepper.resume->t : 0));
-    unknowns.pack();
-    set_coupled_solver_options(s.scene);
-    auto& newton = s.newton("coupled", [&] { return coupled.create_matrix(); }, "fsi_");
-    set_coupled_fieldsplit(newton.ksp(), unknowns);
-    const auto system = coupled.system(s.closed ? &*s.closed : nullptr);
-    const double rho_inf = s.scene.real("dynamics.rho_inf"),
-                 damping = s.scene.real("dynamics.damping");
-    const int order = s.scene.integer("air.bdf_order");
-    fsi::Power power;
-    double jacobian = 1, force = 0;
-    const int symmetry = m.problem->symmetry_factor();
-    const Stepper::Dynamics dynamics{
-        [&](double dt) { coupled.set_time_step(dt, rho_inf, damping, order); },
-        [] { return 1.0; }, // the air balances at t_{n+1}, where its inlet is set
-        [&]
-        {
-          power = coupled.power();
-          jacobian = air.smallest_mesh_jacobian().first;
-          out.measure();
-          if (m.eye)
-            force = -symmetry * air.interface_force()[1]; // along -y, into the eye
-          coupled.advance();
-        }};
-    // The state's columns (collective) and its log line's text.
+    _air.open_record(s.folder, &_motion.problem);
+    _air.set_inlet(resumed ? s.stepper.resume->t : 0);
+    coupled.unknowns().pack();
+    _coupling.set_solver_options();
     std::string text;
-    auto sample = [&](double t)
-    {
-      biomarkers::Columns c;
-      const auto p = out.sample(t);
-      if (m.eye)
-      {
-        c = {{"apex_air_pressure_mmHg", p.apex_pressure},
-             {"max_air_velocity_m_s", p.max_speed},
-             {"air_force_N", force}};
-        text = format("  air apex %.3f mmHg  |u| %.1f m/s", p.apex_pressure, p.max_speed);
-      }
-      else
-      {
-        c = {{"max_air_velocity_m_s", p.max_speed},
-             {"air_force_x_N", p.force[0]},
-             {"air_force_y_N", p.force[1]},
-             {"air_force_z_N", p.force[2]}};
-        text = format("  air |u| %.4g m/s  force %+.6e %+.6e %+.6e N", p.max_speed, p.force[0],
-                      p.force[1], p.force[2]);
-      }
-      c.insert(c.end(), {{"air_mesh_jacobian_min", jacobian},
-                         {"interface_power_air_mW", power.air},
-                         {"interface_power_solid_mW", power.solid}});
-      text += format("  mesh J %.3f  power %.4e/%.4e mW", jacobian, power.air, power.solid);
-      return c;
-    };
-    try
-    {
-      if (!resumed)
-      {
-        const auto first = sample(0);
-        if (s.frames && s.frames->frames() == 0)
-          s.add_frame(0, 0, solver::NewtonReport{true, 0, {0.0}, ""}, first);
-      }
-      s.stepper.march(
-          newton, "puff", 0, s.scene.real("puff.duration"), s.scene.real("dynamics.dt"), dynamics,
-          system,
-          [&](double t)
-          {
-            // The inlet's values into the air's unknowns (x holds the state).
-            unknowns.unpack();
-            air.set_inlet_scale(inlet(t));
-            unknowns.pack();
-          },
-          [&](double t, double dt, const solver::NewtonReport& report)
-          {
-            const auto columns = sample(t);
-            _worst_jacobian = std::min(_worst_jacobian, jacobian);
-            _worst_power = std::max(_worst_power, std::abs(power.air - power.solid));
-            _largest_power
-                = std::max({_largest_power, std::abs(power.air), std::abs(power.solid)});
-            s.dynamic_step({{"phase", "puff"}}, t, dt, report, columns, text);
-          });
-    }
-    catch (...)
-    {
-      out.write_tables();
-      throw;
-    }
-    out.write_tables();
-    nlohmann::json air_summary;
-    out.summarise(air_summary);
-    s.summary["air"] = air_summary;
-    s.summary["coupled_timings_s"] = coupled.timings();
-    s.summary["air_mesh_jacobian_min"] = _worst_jacobian;
-    s.summary["interface_power_mismatch_max_mW"] = _worst_power;
-    s.summary["interface_power_max_mW"] = _largest_power;
-    _out = nullptr;
-    if (s.frames)
-    {
-      s.write_tables();
-      summarise_puff(s);
-    }
+    start_solid(s, resumed, resumed ? biomarkers::Columns{} : _coupling.sample(0, text));
   }
-  nlohmann::json save() const override
+  solver::Newton& newton(RunState& s) override
   {
-    return {{"record", _out->state()},
-            {"worst_jacobian", _worst_jacobian},
-            {"worst_power", _worst_power},
-            {"largest_power", _largest_power}};
+    auto& n = s.newton("coupled", [&] { return _coupling.coupled.create_matrix(); }, "fsi_");
+    _coupling.set_fieldsplit(n.ksp());
+    return n;
   }
-  void restore(const nlohmann::json& state) override { _resumed = state; }
+  solver::System system() override { return _coupling.coupled.system(_solid.closed()); }
+  Stepper::Dynamics dynamics() override { return _coupling.dynamics(); }
+  void load(double t) override
+  {
+    // The inlet's values into the air's unknowns (x holds the state).
+    auto& unknowns = _coupling.coupled.unknowns();
+    unknowns.unpack();
+    _air.set_inlet(t);
+    unknowns.pack();
+  }
+  void record(RunState& s, double t, double dt, const solver::NewtonReport& report) override
+  {
+    std::string text;
+    const auto columns = _coupling.sample(t, text);
+    record_solid_step(s, _solid, {{"phase", "puff"}}, t, dt, report, columns, text);
+  }
+  void finish(RunState& s) override
+  {
+    _air.summarise_record(s.summary, s.folder);
+    finish_solid(s);
+  }
 
 private:
-  AirRecord* _out = nullptr; ///< while run() marches
-  /// The air mesh's smallest Jacobian, the largest interface power
-  /// mismatch and power over the steps so far [mW].
-  double _worst_jacobian = 1, _worst_power = 0, _largest_power = 0;
-  nlohmann::json _resumed; ///< a checkpoint's state of the phase, or null
+  AirBlock& _air;
+  MeshMotionBlock& _motion;
+  CouplingBlock& _coupling;
 };
 
 } // namespace
 
-std::vector<std::unique_ptr<Phase>> timeline(const scene::Scene& s, const Model& model)
+std::vector<std::unique_ptr<Phase>> timeline(const Settings& s, Model& model)
 {
   std::vector<std::unique_ptr<Phase>> phases;
-  const std::string load = s.string("puff.load");
-  if (load == "air")
+  using Load = PuffSettings::Load;
+  const Load load = s.puff.load;
+  if (load == Load::air)
   {
-    phases.push_back(std::make_unique<AirPuff>());
+    phases.push_back(std::make_unique<AirPuff>(*model.air));
     return phases;
   }
-  const bool cavities = model.problem->cavities() > 0;
-  if (s.boolean("zero_pressure.enabled"))
-    phases.push_back(std::make_unique<ZeroPressure>());
+  SolidBlock& solid = *model.solid;
+  const bool cavities = solid.problem.cavities() > 0, press = s.solid.press.pressure != 0;
+  // Pseudo-time: each quasi-static phase spans one unit before the rest.
+  double t = -s.solid.rest_duration - (int(cavities) + int(press));
+  if (s.solid.zero_pressure.enabled)
+    phases.push_back(std::make_unique<ZeroPressure>(solid));
   if (cavities)
-    phases.push_back(std::make_unique<Inflate>());
-  if (cavities && s.string("cavity.model") == "closed")
-    phases.push_back(std::make_unique<Close>());
-  if (s.real("press.pressure") != 0)
-    phases.push_back(std::make_unique<Press>());
-  if (s.real("rest.duration") > 0)
-  {
-    biomarkers::Columns at_rest;
-    if (load == "fsi")
-      at_rest = {{"apex_air_pressure_mmHg", 0.0}, {"max_air_velocity_m_s", 0.0},
-                 {"air_force_N", 0.0},            {"air_mesh_jacobian_min", 1.0},
-                 {"interface_power_air_mW", 0.0}, {"interface_power_solid_mW", 0.0}};
-    phases.push_back(std::make_unique<Rest>(at_rest));
-  }
-  if (load == "gaussian" || load == "pulse" || load == "table")
-    phases.push_back(std::make_unique<PrescribedPuff>());
-  if (load == "fsi")
-    phases.push_back(std::make_unique<CoupledPuff>());
+    phases.push_back(std::make_unique<Inflate>(solid, t)), t += 1;
+  if (cavities && s.solid.cavity.closed)
+    phases.push_back(std::make_unique<Close>(solid));
+  if (press)
+    phases.push_back(std::make_unique<Press>(solid, t)), t += 1;
+  if (s.solid.rest_duration > 0)
+    phases.push_back(std::make_unique<Rest>(
+        solid, load == Load::fsi ? CouplingBlock::at_rest() : biomarkers::Columns{}));
+  if (s.puff.prescribed())
+    phases.push_back(std::make_unique<PrescribedPuff>(solid));
+  if (load == Load::fsi)
+    phases.push_back(std::make_unique<CoupledPuff>(solid, *model.air, *model.mesh_motion,
+                                                   *model.coupling));
   return phases;
 }
 

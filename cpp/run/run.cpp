@@ -17,75 +17,14 @@ namespace nct
 namespace
 {
 
-constexpr double mmHg = 1.333224e-4; // MPa
 using io::format;
 
 /// What the model is, into the log and the summary.
 void describe(RunState& s)
 {
-  const Model& m = s.model;
-  if (m.problem)
-  {
-    const std::int64_t cells = m.setup.mesh.mesh->topology().index_map(3)->size_global();
-    s.summary["cells"] = cells;
-    s.summary["dofs"] = m.problem->dofs();
-    s.summary["degree"] = s.scene.integer("fem.degree");
-    s.summary["symmetry_factor"] = m.problem->symmetry_factor();
-    s.folder.log(format("mesh: %lld tetrahedra, degree %d, %lld dofs (%.2f s); setup %.2f s",
-                        (long long)cells, s.scene.integer("fem.degree"),
-                        (long long)m.problem->dofs(), m.t_mesh, m.t_setup));
-  }
-  if (m.air)
-  {
-    const auto& a = *m.air_mesh;
-    const std::int64_t cells = a.mesh.mesh->topology().index_map(3)->size_global();
-    s.summary[m.problem ? "air_cells" : "cells"] = cells;
-    s.summary[m.problem ? "air_dofs" : "dofs"] = m.air->dofs();
-    if (m.eye)
-    {
-      const double U = s.scene.real("air.inlet_velocity"), rho = s.scene.real("air.density");
-      s.summary["stagnation_pressure_mmHg"] = 0.5 * rho * U * U / mmHg;
-    }
-    std::string motion;
-    if (m.motion)
-    {
-      s.summary["mesh_motion_dofs"] = m.motion->dofs();
-      s.summary["coupled_dofs"] = m.coupled->unknowns().size_global();
-      s.summary["interface_nodes"] = m.coupled->interface_nodes();
-      motion = format("; mesh motion %lld dofs; coupled %lld dofs, %zu interface nodes",
-                      (long long)m.motion->dofs(),
-                      (long long)m.coupled->unknowns().size_global(),
-                      m.coupled->interface_nodes());
-    }
-    else if (m.eye)
-      s.summary["air_eye"] = s.scene.string("air.eye");
-    s.folder.log(format("air mesh: %lld tetrahedra (%lld air, %lld eye in the gmsh model), "
-                        "P1/P1, %lld dofs%s",
-                        (long long)cells, (long long)a.air_cells, (long long)a.eye_cells,
-                        (long long)m.air->dofs(), motion.c_str()));
-  }
-}
-
-/// The solid's final state into the summary: the apex, each cavity's
-/// final and largest pressure and its volume.
-void summarise_solid(RunState& s)
-{
-  const nlohmann::json& steps = s.summary["steps"];
-  const auto& last = steps.back();
-  if (s.model.eye)
-    s.summary["apex_displacement_mm"] = last["apex_displacement_mm"][1];
-  s.summary["iop_mmHg"] = s.scene.real("inflate.iop");
-  s.summary["cavity_model"]
-      = s.model.problem->cavities() > 0 ? s.scene.string("cavity.model") : "none";
-  for (const auto& name : s.model.setup.cavity_names)
-  {
-    s.summary[name + "_volume_mm3"] = last[name + "_volume_mm3"];
-    s.summary[name + "_pressure_mmHg"] = last[name + "_pressure_mmHg"];
-    double max = 0;
-    for (const auto& step : steps)
-      max = std::max(max, step[name + "_pressure_mmHg"].get<double>());
-    s.summary[name + "_pressure_max_mmHg"] = max;
-  }
+  for (const Block* b : s.model.blocks())
+    b->describe(s.summary, s.folder);
+  s.folder.log(format("meshing %.2f s, setup %.2f s", s.model.t_mesh, s.model.t_setup));
 }
 
 /// Run the phase s.phase (started by s.start_phase, or resumed) and add its
@@ -171,47 +110,39 @@ std::string blas_library()
   return error ? info.dli_fname : path.string();
 }
 
-nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& options)
+nlohmann::json run(MPI_Comm comm, const Input& in, const RunOptions& options)
 {
-  check(comm, s);
+  const Settings& s = in.settings;
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
   // A resumed run's checkpoint is read (and checked) before anything else.
   std::optional<io::CheckpointReader> checkpoint;
   if (options.resume)
   {
-    if (s.integer("checkpoint.steps") == 0)
-      throw io::CheckpointError(s.file().string() + ": --resume needs the scene the run "
+    if (s.checkpoint.steps == 0)
+      throw io::CheckpointError(in.scene.file().string() + ": --resume needs the scene the run "
                                 "was started with, whose checkpoint.steps is > 0 (it is 0)");
     checkpoint.emplace(options.out / "checkpoint");
   }
   io::RunFolder folder(comm, options.out, options.resume);
-  folder.write_text("scene.toml", s.to_toml());
-  folder.log("nct: " + s.file().string() + " on " + std::to_string(ranks)
+  folder.write_text("scene.toml", in.scene.to_toml());
+  folder.log("nct: " + in.scene.file().string() + " on " + std::to_string(ranks)
              + " rank(s) -> " + options.out.string());
   folder.log("blas: " + blas_library());
 
   // Linear solver options: defaults, then the scene's, then the command line's.
-  auto petsc = s.options("solver.petsc");
+  auto petsc = s.solver.petsc;
   petsc.insert(petsc.end(), options.petsc.begin(), options.petsc.end());
-  solver::set_petsc_options(petsc, newton_settings(s).jacobian);
+  solver::set_petsc_options(petsc, s.solver.newton.jacobian);
 
-  Model model = make_model(comm, s);
-  RunState state(comm, s, folder, model, petsc);
+  Model model = make_model(comm, in);
+  RunState state(comm, in, folder, model, petsc);
   state.summary["blas"] = blas_library();
   describe(state);
   const auto phases = timeline(s, model);
   if (phases.empty())
     throw std::runtime_error("the scene loads nothing: no cavity to inflate, no "
                              "press.pressure and no puff");
-  if (model.problem)
-  {
-    // The timeline: the puff starts at t = 0 [ms], the rest spans
-    // [-rest, 0], and before it each quasi-static phase takes one unit of
-    // pseudo-time (its load fraction).
-    const int quasi_static = (model.problem->cavities() > 0) + (state.press_peak != 0);
-    state.t0 = -s.real("rest.duration") - quasi_static;
-  }
   state.summary["profile"] = nlohmann::json::array();
   std::size_t first = 0;
   if (checkpoint)
@@ -248,8 +179,9 @@ nlohmann::json run(MPI_Comm comm, const scene::Scene& s, const RunOptions& optio
     finish(state, "failed");
     throw;
   }
-  if (model.problem)
-    summarise_solid(state);
+  for (const Block* b : model.blocks())
+    b->summarise(state.summary);
+  state.write_tables();
   finish(state, "converged");
   const solver::Timings t = state.timings();
   folder.log(format("done: %d Newton iterations, %d step cuts; assemble %.2f s, linear solve "

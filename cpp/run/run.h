@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "run/model.h"
-#include "scene/scene.h"
+#include "settings/settings.h"
 
 namespace nct
 {
@@ -56,6 +56,6 @@ struct RunOptions
 /// "closed"), a surface pressure ramp (press.pressure != 0), then in
 /// dynamics a rest with the loads held (rest.duration > 0) and the air
 /// puff (puff.load), whose frames give the Corvis biomarkers.
-nlohmann::json run(MPI_Comm comm, const scene::Scene& scene, const RunOptions& options);
+nlohmann::json run(MPI_Comm comm, const Input& input, const RunOptions& options);
 
 } // namespace nct

@@ -58,7 +58,7 @@ struct Saved
 bool Stepper::attempt(solver::Newton& newton, const std::string& where,
                       const solver::System& system, solver::NewtonReport& report)
 {
-  report = newton.solve(system, _settings);
+  report = newton.solve(system, settings);
   newton_iterations += report.iterations;
   if (!report.converged)
     _folder.log(format("  %s: Newton failed after %d iterations: %s; residuals:%s",
@@ -142,7 +142,7 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
     problem.set_time_step(step);
     // The Jacobian depends on dt: a kept factorisation is stale, unless
     // it only preconditions the exact Jacobian (krylov).
-    if (step != last_dt && _settings.jacobian != solver::Jacobian::krylov)
+    if (step != last_dt && settings.jacobian != solver::Jacobian::krylov)
       newton.reset();
     last_dt = step;
     load(t + problem.load_level() * step);

@@ -31,7 +31,7 @@ public:
 
   Stepper(const solver::NewtonSettings& settings, int max_cuts, Predictor predictor,
           io::RunFolder& folder)
-      : _settings(settings), _max_cuts(max_cuts), _predictor(predictor), _folder(folder)
+      : settings(settings), _max_cuts(max_cuts), _predictor(predictor), _folder(folder)
   {
   }
 
@@ -88,13 +88,14 @@ public:
 
   int newton_iterations = 0;
   int cuts = 0;
+  /// Each Newton solve's stopping and globalisation.
+  solver::NewtonSettings settings;
 
 private:
   /// One Newton solve; false when it failed.
   bool attempt(solver::Newton& newton, const std::string& where, const solver::System& system,
                solver::NewtonReport& report);
 
-  solver::NewtonSettings _settings;
   int _max_cuts;
   Predictor _predictor;
   io::RunFolder& _folder;

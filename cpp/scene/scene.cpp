@@ -125,69 +125,72 @@ std::string source_text(const toml::node& n)
   return s.str();
 }
 
-/// Where a value came from: "file:line" or the --set option.
-std::string origin(const toml::node& n, const std::string& file)
+/// Where a value came from: "file:line" or the --set option, and its line
+/// (-1: a --set option, 0: none).
+std::pair<std::string, int> place(const toml::node& n, const std::string& file)
 {
   const auto& src = n.source();
   if (src.path && src.path->rfind("--set", 0) == 0)
-    return *src.path;
+    return {*src.path, -1};
   if (src.begin.line > 0)
-    return file + ":" + std::to_string(src.begin.line);
-  return file;
+    return {(src.path ? *src.path : file) + ":" + std::to_string(src.begin.line),
+            static_cast<int>(src.begin.line)};
+  return {file, 0};
 }
 
-/// Throw unless a user value fits its declared key.
-void check_value(const Key& key, const std::string& name, const toml::node& n,
-                 const std::string& where)
+/// Add a problem at a node's place.
+void add_at(Errors& errors, const toml::node& n, const std::string& file,
+            const std::string& message)
+{
+  const auto [where, line] = place(n, file);
+  errors.add(where, line, message);
+}
+
+/// A problem unless a user value fits its declared key; false if refused.
+bool check_value(const Key& key, const std::string& name, const toml::node& n,
+                 const std::string& file, Errors& errors)
 {
   auto fail = [&](const std::string& why)
   {
-    throw Error(where + ": key '" + name + "': " + why + "; expected "
-                + accepted(key));
+    add_at(errors, n, file, "key '" + name + "': " + why + "; expected " + accepted(key));
+    return false;
   };
   switch (key.kind)
   {
   case Kind::boolean:
-    if (!n.is_boolean())
-      fail("got " + source_text(n));
-    break;
+    return n.is_boolean() || fail("got " + source_text(n));
   case Kind::integer:
   {
     if (!n.is_integer())
-      fail("got " + source_text(n));
+      return fail("got " + source_text(n));
     double v = static_cast<double>(n.as_integer()->get());
-    if (v < key.min || v > key.max)
-      fail("got " + source_text(n) + ", out of range");
-    break;
+    return (v >= key.min && v <= key.max) || fail("got " + source_text(n) + ", out of range");
   }
   case Kind::real:
   {
     if (!n.is_number())
-      fail("got " + source_text(n));
+      return fail("got " + source_text(n));
     double v = number(n);
     // Infinity only where the range is unbounded above (e.g. a width).
     const bool infinite_ok = v > 0 && std::isinf(v) && std::isinf(key.max);
     if (std::isnan(v) || (!std::isfinite(v) && !infinite_ok) || v < key.min || v > key.max)
-      fail("got " + source_text(n) + ", out of range");
-    break;
+      return fail("got " + source_text(n) + ", out of range");
+    return true;
   }
   case Kind::choice:
     if (!n.is_string())
-      fail("got " + source_text(n));
-    if (std::find(key.choices.begin(), key.choices.end(),
-                  n.as_string()->get())
+      return fail("got " + source_text(n));
+    if (std::find(key.choices.begin(), key.choices.end(), n.as_string()->get())
         == key.choices.end())
-      fail("got " + source_text(n) + ", not a known choice");
-    break;
+      return fail("got " + source_text(n) + ", not a known choice");
+    return true;
   case Kind::string:
-    if (!n.is_string())
-      fail("got " + source_text(n));
-    break;
+    return n.is_string() || fail("got " + source_text(n));
   case Kind::strings:
     if (!n.is_array() || !n.as_array()->is_homogeneous(toml::node_type::string))
       if (!(n.is_array() && n.as_array()->empty()))
-        fail("got " + source_text(n));
-    break;
+        return fail("got " + source_text(n));
+    return true;
   case Kind::points:
   {
     bool ok = n.is_array();
@@ -200,18 +203,17 @@ void check_value(const Key& key, const std::string& name, const toml::node& n,
           for (const auto& c : *a)
             ok = ok && c.is_number() && std::isfinite(number(c));
       }
-    if (!ok)
-      fail("got " + source_text(n));
-    break;
+    return ok || fail("got " + source_text(n));
   }
   case Kind::options:
     if (!n.is_table())
-      fail("got " + source_text(n));
+      return fail("got " + source_text(n));
     for (auto&& [k, v] : *n.as_table())
       if (!(v.is_string() || v.is_number() || v.is_boolean()))
-        fail("option '" + std::string(k.str()) + "' is not a string, number or boolean");
-    break;
+        return fail("option '" + std::string(k.str()) + "' is not a string, number or boolean");
+    return true;
   }
+  return true;
 }
 
 const Key* find_key(const std::string& name)
@@ -274,10 +276,24 @@ const toml::node& first_leaf(const toml::node& n, std::string& name)
   return *leaf;
 }
 
-/// Check every leaf of a user table against the declared keys.
-void check_table(const toml::table& t, const std::string& prefix,
-                 const std::string& file)
+/// Keys renamed since an earlier version: old name, new name, what else changed.
+const std::vector<std::array<const char*, 3>>& renamed()
 {
+  static const std::vector<std::array<const char*, 3>> names = {
+      {"air.inlet_velocity", "inlet.velocity", ""},
+      {"air.inlet_profile", "inlet.profile", " (\"plug\" is now \"uniform\")"},
+      {"air.inlet_history", "inlet.history", ""},
+      {"boundary.surface_load", "boundary.press", ""}};
+  return names;
+}
+
+/// Check every leaf of a user table against the declared keys; the
+/// problems into `errors`, the entries refused dropped from the table (their
+/// defaults stand in) and marked there.
+void check_table(toml::table& t, const std::string& prefix, const std::string& file,
+                 Errors& errors)
+{
+  std::vector<std::string> drop;
   for (auto&& [k, v] : t)
   {
     const std::string part(k.str());
@@ -287,25 +303,42 @@ void check_table(const toml::table& t, const std::string& prefix,
     if (part.empty() || part.find_first_of(".[]*") != std::string::npos)
     {
       std::string leaf_name;
-      throw Error(origin(first_leaf(v, leaf_name), file) + ": key '" + name + "': the name \""
-                  + part + "\" is empty or holds '.', '[', ']' or '*'");
+      add_at(errors, first_leaf(v, leaf_name), file,
+             "key '" + name + "': the name \"" + part + "\" is empty or holds '.', '[', ']' or '*'");
+      errors.refuse(name);
+      drop.push_back(part);
+      continue;
     }
     const Key* key = find_key(name);
     if (key)
     {
-      check_value(*key, name, v, origin(v, file)); // a table too: wrong type
+      if (!check_value(*key, name, v, file, errors)) // a table too: wrong type
+      {
+        errors.refuse(name);
+        drop.push_back(part);
+      }
       continue;
     }
     if (v.is_table() && declared_table(name))
     {
-      check_table(*v.as_table(), name, file);
+      check_table(*v.as_table(), name, file, errors);
       continue;
     }
     // Unknown: name its first leaf (zero_presure.enabled), or the empty table.
     const toml::node& leaf = first_leaf(v, name);
-    throw Error(origin(leaf, file) + ": unknown key '" + name + "'" + suggestion(name)
-                + "; 'nct describe' lists every key");
+    errors.refuse(name);
+    drop.push_back(part);
+    const auto& r = renamed();
+    auto old = std::find_if(r.begin(), r.end(), [&](const auto& n) { return name == n[0]; });
+    if (old != r.end())
+      add_at(errors, leaf, file,
+             "key '" + name + "' is now '" + (*old)[1] + "'" + (*old)[2] + "; rename it");
+    else
+      add_at(errors, leaf, file,
+             "unknown key '" + name + "'" + suggestion(name) + "; 'nct describe' lists every key");
   }
+  for (const auto& part : drop)
+    t.erase(part);
 }
 
 /// Insert `value` at a dotted path, creating tables on the way.
@@ -409,7 +442,7 @@ bool applies(const Key& key, const toml::table& user)
 
 /// Check the `when` condition of every user key.
 void check_conditions(const toml::table& t, const std::string& prefix,
-                      const toml::table& user, const std::string& file)
+                      const toml::table& user, const std::string& file, Errors& errors)
 {
   for (auto&& [k, v] : t)
   {
@@ -417,19 +450,81 @@ void check_conditions(const toml::table& t, const std::string& prefix,
                                       : prefix + "." + std::string(k.str());
     const Key* key = find_key(name);
     if (v.is_table() && !(key && key->kind == Kind::options))
-      check_conditions(*v.as_table(), name, user, file);
+      check_conditions(*v.as_table(), name, user, file, errors);
     else if (key && !applies(*key, user))
-      throw Error(origin(v, file) + ": key '" + name + "'"
-                  + (key->name == name ? "" : " (as '" + key->name + "')")
-                  + " applies only when " + key->when
-                  + "; remove it or change the scene to that");
+    {
+      add_at(errors, v, file,
+             "key '" + name + "'" + (key->name == name ? "" : " (as '" + key->name + "')")
+                 + " applies only when " + key->when
+                 + "; remove it or change the scene to that");
+      errors.refuse(name);
+    }
   }
+}
+
+/// Remove the node at a dotted path (if there).
+void erase_at(toml::table& t, const std::string& name)
+{
+  const auto dot = name.find('.');
+  if (dot == std::string::npos)
+  {
+    t.erase(name);
+    return;
+  }
+  if (auto* sub = t.get(name.substr(0, dot)); sub && sub->is_table())
+    erase_at(*sub->as_table(), name.substr(dot + 1));
 }
 
 } // namespace
 
+void Errors::add(const std::string& where, int line, const std::string& message)
+{
+  // The file's lines in order, then the --set options, then the file as a whole.
+  const int order = line > 0 ? line : line < 0 ? std::numeric_limits<int>::max() - 1
+                                               : std::numeric_limits<int>::max();
+  _problems.push_back({order, _problems.size(), where + ": " + message});
+}
+
+void Errors::at(const Scene& scene, const std::string& key, const std::string& message)
+{
+  const auto [where, line] = scene.origin(key);
+  if (where.empty())
+    add(message);
+  else
+    add(where, line, message);
+}
+
+bool Errors::refused(const std::string& key) const
+{
+  return std::find(_refused.begin(), _refused.end(), key) != _refused.end();
+}
+
+void Errors::raise() const
+{
+  if (_problems.empty())
+    return;
+  auto sorted = _problems;
+  std::stable_sort(sorted.begin(), sorted.end(), [](const Problem& a, const Problem& b)
+                   { return a.order < b.order; });
+  if (sorted.size() == 1)
+    throw Error(sorted[0].text);
+  std::string text = std::to_string(sorted.size()) + " problems in " + _file.string() + ":";
+  for (const auto& p : sorted)
+    text += "\n  " + p.text;
+  throw Error(text);
+}
+
 Scene Scene::load(const std::filesystem::path& file,
                   const std::vector<std::string>& overrides)
+{
+  Errors errors(file);
+  Scene scene = load(file, overrides, errors);
+  errors.raise();
+  return scene;
+}
+
+Scene Scene::load(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                  Errors& errors)
 {
   const std::string fname = file.string();
   std::error_code ec; // e.g. a name too long
@@ -453,18 +548,32 @@ Scene Scene::load(const std::filesystem::path& file,
   for (const std::string& o : overrides)
   {
     const std::string where = "--set " + o;
-    std::istringstream text(o);
-    check_nesting(text, where);
-    auto eq = o.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw Error(where + ": expected section.key=value");
-    std::string name = o.substr(0, eq);
-    toml::table parsed = parse_literal(o.substr(eq + 1), where);
-    insert_at(user, name, std::move(*parsed.get("v")), where);
+    try
+    {
+      std::istringstream text(o);
+      check_nesting(text, where);
+      auto eq = o.find('=');
+      if (eq == std::string::npos || eq == 0)
+        throw Error(where + ": expected section.key=value");
+      std::string name = o.substr(0, eq);
+      toml::table parsed = parse_literal(o.substr(eq + 1), where);
+      insert_at(user, name, std::move(*parsed.get("v")), where);
+    }
+    catch (const Error& e)
+    {
+      std::string message = e.what(); // "--set ...: what"
+      if (message.rfind(where, 0) == 0)
+        message.erase(0, message.find_first_not_of(": ", where.size()));
+      errors.add(where, -1, message);
+    }
   }
 
-  check_table(user, "", fname);
-  check_conditions(user, "", user, fname);
+  // Every problem of the user's keys; the refused ones are dropped (their
+  // defaults stand in), so that the checks that follow see a valid scene.
+  check_table(user, "", fname, errors);
+  check_conditions(user, "", user, fname, errors);
+  for (const std::string& name : errors.refused_keys())
+    erase_at(user, name);
 
   // Resolved scene: declared defaults under the user's values. Wildcard
   // keys get defaults only in the tables the user wrote.
@@ -521,9 +630,7 @@ Scene Scene::load(const std::filesystem::path& file,
   };
   overlay(user, "");
 
-  Scene scene(std::filesystem::absolute(file), std::move(resolved));
-  check_consistency(scene);
-  return scene;
+  return Scene(std::filesystem::absolute(file), std::move(user), std::move(resolved));
 }
 
 const toml::node& Scene::node(const std::string& key) const
@@ -532,6 +639,13 @@ const toml::node& Scene::node(const std::string& key) const
   if (!n)
     throw std::logic_error("scene key '" + key + "' is not declared");
   return *n;
+}
+
+std::pair<std::string, int> Scene::origin(const std::string& key) const
+{
+  if (const toml::node* n = _user.at_path(key).node())
+    return place(*n, _file.string());
+  return {"", 0};
 }
 
 bool Scene::has(const std::string& key) const

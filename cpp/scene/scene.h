@@ -22,6 +22,46 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+class Scene;
+
+/// Every problem of an input file, reported at once: each names its place
+/// (file:line, or the --set option), the key, the value and what is
+/// accepted; they are sorted by line.
+class Errors
+{
+public:
+  /// `file`: the input file, which problems without a line name.
+  explicit Errors(std::filesystem::path file) : _file(std::move(file)) {}
+  /// A problem at `where` ("file:line", "--set key=value" or the file),
+  /// `line` its line in the file (0: none).
+  void add(const std::string& where, int line, const std::string& message);
+  /// A problem with the file as a whole.
+  void add(const std::string& message) { add(_file.string(), 0, message); }
+  /// A problem with a key: placed where the scene set it (else the file).
+  /// `message` names the key ("key 'x': ...").
+  void at(const Scene& scene, const std::string& key, const std::string& message);
+  /// A key whose value is refused (keeps its default; its conditions on
+  /// other keys are not checked).
+  void refuse(const std::string& key) { _refused.push_back(key); }
+  bool refused(const std::string& key) const;
+  const std::vector<std::string>& refused_keys() const { return _refused; }
+  bool empty() const { return _problems.empty(); }
+  std::size_t size() const { return _problems.size(); }
+  /// Throw every problem as one Error (none: nothing).
+  void raise() const;
+
+private:
+  struct Problem
+  {
+    int order; ///< the line; --set options after the lines, the file's last
+    std::size_t seen;
+    std::string text;
+  };
+  std::filesystem::path _file;
+  std::vector<Problem> _problems;
+  std::vector<std::string> _refused;
+};
+
 /// The kinds of value a key holds.
 enum class Kind
 {
@@ -52,7 +92,8 @@ struct Key
   std::string when = "";
 };
 
-/// Every key a scene may hold (cpp/scene/keys.cpp).
+/// Every key a scene may hold, as the blocks' settings declare them
+/// (cpp/settings/settings.cpp).
 const std::vector<Key>& keys();
 
 /// The documentation of every key: plain text, or a Markdown table.
@@ -66,6 +107,14 @@ public:
   /// Throws Error before any expensive work when anything is wrong.
   static Scene load(const std::filesystem::path& file,
                     const std::vector<std::string>& overrides = {});
+  /// The same, every problem into `errors` (a file that cannot be parsed
+  /// throws at once): a refused value is left at its default.
+  static Scene load(const std::filesystem::path& file, const std::vector<std::string>& overrides,
+                    Errors& errors);
+
+  /// Where a key's value came from: "file:line" or the --set option,
+  /// with its line (-1: a --set option); a default: ("", 0).
+  std::pair<std::string, int> origin(const std::string& key) const;
 
   /// Does the resolved scene hold this key?
   bool has(const std::string& key) const;
@@ -93,18 +142,15 @@ public:
   std::string to_toml(const std::vector<std::string>& without) const;
 
 private:
-  Scene(std::filesystem::path file, toml::table resolved)
-      : _file(std::move(file)), _resolved(std::move(resolved))
+  Scene(std::filesystem::path file, toml::table user, toml::table resolved)
+      : _file(std::move(file)), _user(std::move(user)), _resolved(std::move(resolved))
   {
   }
   const toml::node& node(const std::string& key) const;
 
   std::filesystem::path _file;
+  toml::table _user; ///< the file's values and the --set ones, where they were given
   toml::table _resolved;
 };
-
-/// Cross-checks of a resolved scene that no single key can make
-/// (contradictory effects, missing files); throws Error.
-void check_consistency(const Scene& scene);
 
 } // namespace nct::scene

@@ -1,40 +1,11 @@
 #include "solid/material.h"
 
-#include "scene/scene.h"
-
 #include <cmath>
 #include <map>
 #include <stdexcept>
 
 namespace nct::solid
 {
-
-Material read_material(const scene::Scene& s, const std::string& part)
-{
-  const std::string m = "material." + part + ".";
-  static const std::map<std::string, Law> laws
-      = {{"hgo", Law::hgo},
-         {"neo_hookean", Law::neo_hookean},
-         {"saint_venant_kirchhoff", Law::saint_venant_kirchhoff},
-         {"compressible_neo_hookean", Law::compressible_neo_hookean}};
-  const std::string model = s.string(m + "model");
-  auto law = laws.find(model);
-  if (law == laws.end())
-    throw std::invalid_argument("material." + part + ".model = \"" + model
-                                + "\" is not a solid law");
-  Material mat{law->second,
-               s.real(m + "c10"),
-               s.real(m + "k1"),
-               s.real(m + "k2"),
-               s.real(m + "kappa"),
-               s.real(m + "youngs_modulus"),
-               s.real(m + "poisson_ratio"),
-               s.real(m + "density"),
-               {}};
-  if (s.has(m + "fibre_directions"))
-    mat.fibre_directions = s.points(m + "fibre_directions");
-  return mat;
-}
 
 CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
                        const std::map<std::int32_t, std::string>& parts,

@@ -11,17 +11,13 @@
 #include <dolfinx/fem/Function.h>
 #include <dolfinx/mesh/MeshTags.h>
 
-namespace nct::scene
-{
-class Scene;
-}
-
 namespace nct::solid
 {
 
 /// Material laws; the values are the cell tags of forms/solid.py.
 enum class Law : std::int32_t
 {
+  fluid = 0, ///< a file mesh's fluid part: the air block's, never in the solid's forms
   hgo = 1,
   neo_hookean = 2,
   saint_venant_kirchhoff = 3,
@@ -33,12 +29,10 @@ struct Material
 {
   Law law;
   double c10, k1, k2, kappa, youngs_modulus, poisson_ratio;
-  double density; ///< [g/mm^3]
+  double density;   ///< [g/mm^3]
+  double viscosity; ///< a fluid's [MPa ms]
   std::vector<std::array<double, 3>> fibre_directions; ///< file meshes only
 };
-
-/// Read [material.<part>] of a scene.
-Material read_material(const scene::Scene& scene, const std::string& part);
 
 /// Fibre directions (two families, zero when absent) of a part at a
 /// reference point.

@@ -70,7 +70,7 @@ Kernels kernels(const Element& e)
 
 /// Facet tags of forms/solid.py.
 constexpr std::array<std::int32_t, 2> cavity_wall_tags = {1, 3};
-constexpr std::int32_t surface_load_tag = 2;
+constexpr std::int32_t press_tag = 2;
 constexpr std::int32_t support_tag = 4;
 
 /// The rigid-body modes of a displacement space of block size 3 (three
@@ -136,12 +136,12 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
   von_mises->name = "von_mises_stress";
   _coordinate_space = std::make_shared<fem::FunctionSpace>(
       fem::create_functionspace(functionspace_form_solid_p1_full_R, "u", m.mesh));
-  surface_profile = std::make_shared<fem::Function<double>>(
+  press_profile = std::make_shared<fem::Function<double>>(
       std::make_shared<fem::FunctionSpace>(
-          fem::create_functionspace(k.space, "surface_profile", m.mesh)));
-  surface_profile->name = "surface_profile";
-  surface_profile->x()->set(1.0);
-  _profile_points = surface_profile->function_space()->tabulate_dof_coordinates(false);
+          fem::create_functionspace(k.space, "press_profile", m.mesh)));
+  press_profile->name = "press_profile";
+  press_profile->x()->set(1.0);
+  _profile_points = press_profile->function_space()->tabulate_dof_coordinates(false);
   fields = cell_fields(*m.cells, parts, materials, fibres, Q0, Q0v);
 
   // Integration tags: cells by law, facets by load.
@@ -153,8 +153,8 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
   for (std::size_t c = 0; c < boundaries.cavities.size(); ++c)
     for (auto g : boundaries.cavities[c])
       load_of_group[g] = cavity_wall_tags[c];
-  for (auto g : boundaries.surface_load)
-    load_of_group[g] = surface_load_tag;
+  for (auto g : boundaries.press)
+    load_of_group[g] = press_tag;
   for (auto g : boundaries.fixed)
     load_of_group[g] = support_tag;
   _law_tags = std::make_shared<mesh::MeshTags<std::int32_t>>(
@@ -164,7 +164,7 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
 
   for (std::size_t c = 0; c < cavity_wall_tags.size(); ++c)
     _p_cavities.push_back(std::make_shared<fem::Constant<double>>(0.0));
-  _p_surface = std::make_shared<fem::Constant<double>>(0.0);
+  _p_press = std::make_shared<fem::Constant<double>>(0.0);
   _x0 = std::make_shared<fem::Constant<double>>(
       std::vector<double>(volume_origin.begin(), volume_origin.end()));
   _support = boundaries.support;
@@ -186,14 +186,14 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
   coeffs["u_old"] = u_old;
   coeffs["v_old"] = v_old;
   coeffs["a_old"] = a_old;
-  coeffs["surface_profile"] = surface_profile;
+  coeffs["press_profile"] = press_profile;
   coeffs["u_support"] = _u_support;
   for (auto& [name, f] : fields)
     coeffs[name] = f;
   // Every form takes the constants it names from one map.
   std::map<std::string, std::shared_ptr<const fem::Constant<double>>> constants
       = {{"p_cavity_1", _p_cavities[0]}, {"p_cavity_2", _p_cavities[1]},
-         {"p_surface", _p_surface},       {"x0", _x0},
+         {"p_press", _p_press},       {"x0", _x0},
          {"lid_1", _lids[0]},             {"lid_2", _lids[1]},
          {"support_stiffness", _support_stiffness}, {"support_damping", _support_damping}};
   constants.insert(_time.begin(), _time.end());
@@ -296,12 +296,12 @@ void Problem::set_cavity_pressures(const std::vector<double>& pressures)
     _p_cavities.at(c)->value = {pressures[c]};
 }
 
-void Problem::set_surface_profile(
+void Problem::set_press_profile(
     const std::function<double(const std::array<double, 3>&)>& f)
 {
   // P1: the dofs sit at the vertices.
   const std::vector<double>& x = _profile_points;
-  auto values = surface_profile->x()->mutable_array();
+  auto values = press_profile->x()->mutable_array();
   for (std::size_t i = 0; i < values.size(); ++i)
     values[i] = f({x[3 * i], x[3 * i + 1], x[3 * i + 2]});
 }
@@ -545,7 +545,7 @@ std::vector<double> Problem::nodal_displacement() const
 
 void Problem::update_reference()
 {
-  _profile_points = surface_profile->function_space()->tabulate_dof_coordinates(false);
+  _profile_points = press_profile->function_space()->tabulate_dof_coordinates(false);
   auto fresh = cell_fields(*_cells, _parts, _materials, _fibres,
                            fields.at("c10")->function_space(),
                            fields.at("fibre_1")->function_space());

@@ -1,4 +1,5 @@
-// The quasi-static solid (formulation forms/solid.py): unknown u only.
+// The solid (formulation forms/solid.py): the displacement u, quasi-static
+// or in generalised-alpha dynamics.
 #pragma once
 
 #include <array>
@@ -39,7 +40,7 @@ struct Boundaries
   std::vector<std::int32_t> symmetry;     ///< u . n = 0 on axis-aligned planes
   /// Walls of up to two cavities (each a list of groups): their pressures act here
   std::vector<std::vector<std::int32_t>> cavities;
-  std::vector<std::int32_t> surface_load; ///< the surface pressure acts here
+  std::vector<std::int32_t> press; ///< the press (and a prescribed puff) acts here
   /// Per cavity: the area [mm^2, meshed part] of its lid, the opening it
   /// has on the fixed groups' plane (forms/support.py); 0 or none: no lid.
   std::vector<double> lids;
@@ -80,11 +81,11 @@ public:
 
   /// Pressures [MPa] of the cavities, one per cavity.
   void set_cavity_pressures(const std::vector<double>& pressures);
-  /// Peak pressure [MPa] on the loaded surface (the profile scales it).
-  void set_surface_pressure(double pressure) { _p_surface->value = {pressure}; }
-  /// Shape f(X) of the surface pressure, evaluated at the current
+  /// The press: its peak [MPa] on the pressed surface (the profile scales it).
+  void set_press(double pressure) { _p_press->value = {pressure}; }
+  /// Shape f(X) of the press, evaluated at the current
   /// reference coordinates (1 until set).
-  void set_surface_profile(const std::function<double(const std::array<double, 3>&)>& f);
+  void set_press_profile(const std::function<double(const std::array<double, 3>&)>& f);
 
   /// b = R(u), with b = u - g on Dirichlet dofs.
   void residual(dolfinx::la::Vector<double>& b);
@@ -179,7 +180,7 @@ public:
 
   std::shared_ptr<dolfinx::fem::Function<double>> u;          ///< displacement [mm]
   std::shared_ptr<dolfinx::fem::Function<double>> von_mises;  ///< [MPa], DG0
-  std::shared_ptr<dolfinx::fem::Function<double>> surface_profile; ///< [-], P1
+  std::shared_ptr<dolfinx::fem::Function<double>> press_profile; ///< [-], P1
   /// The last converged state, in dynamics: u_n, v_n [mm/ms], a_n [mm/ms^2]
   std::shared_ptr<dolfinx::fem::Function<double>> u_old, v_old, a_old;
   CellFields fields;                                          ///< materials and fibres
@@ -211,7 +212,7 @@ private:
   /// Of every rank's place, the one with the smallest value, on every rank.
   Place gather(const Place& local) const;
   std::vector<std::shared_ptr<dolfinx::fem::Constant<double>>> _p_cavities;
-  std::shared_ptr<dolfinx::fem::Constant<double>> _p_surface, _x0, _support_stiffness,
+  std::shared_ptr<dolfinx::fem::Constant<double>> _p_press, _x0, _support_stiffness,
       _support_damping;
   std::array<std::shared_ptr<dolfinx::fem::Constant<double>>, 2> _lids;
   /// The Dirichlet conditions in force: the clamp's and the symmetry
@@ -225,7 +226,7 @@ private:
   std::shared_ptr<dolfinx::mesh::MeshTags<std::int32_t>> _law_tags, _load_tags;
   int _symmetry_factor = 1;
   std::string _forms_signature;
-  std::vector<double> _profile_points; ///< reference points of surface_profile's dofs
+  std::vector<double> _profile_points; ///< reference points of press_profile's dofs
   // What lays the fibres: kept for update_reference().
   std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> _cells;
   std::map<std::int32_t, std::string> _parts;

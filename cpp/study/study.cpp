@@ -86,13 +86,13 @@ fs::path scene_path(const fs::path& file, const std::string& key, const toml::no
 
 /// Refuse keys of `t` not in `known`.
 void only(const toml::table& t, const std::set<std::string>& known, const fs::path& file,
-          const std::string& where)
+          const std::string& where, io::KeyErrors& errors)
 {
   const std::string table = where.empty()                    ? "a study file"
                             : where == "study."             ? "[study]"
                             : where.rfind("variant", 0) == 0 ? "[[variant]]"
                                                             : "[[factor]]";
-  io::only(t, known, file, where, table);
+  io::only(t, known, file, where, table, errors);
 }
 
 std::string case_name(std::size_t i, std::size_t n)
@@ -114,18 +114,19 @@ std::string describe_case(const Study& s, const Case& c)
 }
 
 /// The factors of a factorial or one-factor-at-a-time study, and its
-/// cases.
-void read_factors(const toml::table& t, Study& s)
+/// cases (when every factor reads).
+void read_factors(const toml::table& t, Study& s, io::KeyErrors& errors)
 {
   const fs::path& file = s.file;
   const toml::array* fs_ = t["factor"].as_array();
   if (!fs_ || fs_->empty() || !fs_->is_array_of_tables())
     throw key_error(file, "factor", "missing: one [[factor]] table per factor (key, levels)");
+  bool read = true;
   for (std::size_t i = 0; i < fs_->size(); ++i)
-  {
+    read = errors.attempt([&] {
     const toml::table& ft = *fs_->get(i)->as_table();
     const std::string where = "factor[" + std::to_string(i + 1) + "].";
-    only(ft, {"key", "levels", "label"}, file, where);
+    only(ft, {"key", "levels", "label"}, file, where, errors);
     Factor f;
     if (!ft["key"])
       throw key_error(file, where + "key", "missing: the scene key (or keys) the factor sets");
@@ -163,7 +164,9 @@ void read_factors(const toml::table& t, Study& s)
         throw key_error(file, where + "levels", "level " + f.levels.back() + " is given twice");
     }
     s.factors.push_back(std::move(f));
-  }
+  }) && read;
+  if (!read)
+    return;
   const std::size_t k = s.factors.size();
   if (s.design == "factorial" && k > 12)
     throw key_error(file, "factor", format("%zu factors make 2^%zu cases; at most 12 factors", k, k));
@@ -220,7 +223,7 @@ void read_factors(const toml::table& t, Study& s)
 
 /// The variants of an ablation study, one case each: the study's
 /// overrides, then the variant's.
-void read_variants(const toml::table& t, Study& s)
+void read_variants(const toml::table& t, Study& s, io::KeyErrors& errors)
 {
   const fs::path& file = s.file;
   const toml::array* vs = t["variant"].as_array();
@@ -234,10 +237,10 @@ void read_variants(const toml::table& t, Study& s)
   if (!vs->is_array_of_tables())
     throw key_error(file, "variant", "each variant is a [[variant]] table (name, set)");
   for (std::size_t i = 0; i < vs->size(); ++i)
-  {
+    errors.attempt([&] {
     const toml::table& vt = *vs->get(i)->as_table();
     const std::string where = "variant[" + std::to_string(i + 1) + "].";
-    only(vt, {"name", "scene", "set", "description"}, file, where);
+    only(vt, {"name", "scene", "set", "description"}, file, where, errors);
     Variant v;
     auto name = vt["name"].value_exact<std::string>();
     if (!name)
@@ -259,11 +262,11 @@ void read_variants(const toml::table& t, Study& s)
     v.scene = vt["scene"] ? scene_path(file, where + "scene", vt["scene"].node()) : s.scene;
     if (const toml::node* set = vt["set"].node())
       v.sets = string_list(*set, file, where + "set", false);
-    Case c{{}, s.sets, int(i), v.scene};
+    Case c{{}, s.sets, int(s.variants.size()), v.scene};
     c.sets.insert(c.sets.end(), v.sets.begin(), v.sets.end());
     s.cases.push_back(std::move(c));
     s.variants.push_back(std::move(v));
-  }
+  });
 }
 
 } // namespace
@@ -271,44 +274,59 @@ void read_variants(const toml::table& t, Study& s)
 Study Study::load(const fs::path& file)
 {
   const toml::table t = io::parse_toml(file, "study file");
-  only(t, {"study", "factor", "variant"}, file, "");
+  io::KeyErrors errors(file, t);
+  only(t, {"study", "factor", "variant"}, file, "", errors);
   const toml::table* st = t["study"].as_table();
   if (!st)
-    throw key_error(file, "study", "missing: a [study] table names the scene, design and responses");
-  only(*st, {"scene", "design", "responses", "set", "ranks", "jobs", "mpiexec"}, file, "study.");
+  {
+    errors.add(key_error(file, "study", "missing: a [study] table names the scene, design and "
+                                        "responses")
+                   .what());
+    errors.raise();
+  }
+  only(*st, {"scene", "design", "responses", "set", "ranks", "jobs", "mpiexec"}, file, "study.",
+       errors);
 
   Study s;
   s.file = file;
-  const toml::node* scene = (*st)["scene"].node();
-  s.scene = scene_path(file, "study.scene", scene && scene->is_string() ? scene : nullptr);
+  const bool scene_read = errors.attempt([&] {
+    const toml::node* scene = (*st)["scene"].node();
+    s.scene = scene_path(file, "study.scene", scene && scene->is_string() ? scene : nullptr);
+  });
 
-  s.design = (*st)["design"].value_or<std::string>("factorial");
-  if (s.design != "factorial" && s.design != "ofat" && s.design != "ablation")
-    throw key_error(file, "study.design", "\"factorial\" (2^k full), \"ofat\" (one factor "
-                                          "at a time) or \"ablation\" (named variants against "
-                                          "the first), got \"" + s.design + "\"");
+  const bool design_read = errors.attempt([&] {
+    s.design = (*st)["design"].value_or<std::string>("factorial");
+    if (s.design != "factorial" && s.design != "ofat" && s.design != "ablation")
+      throw key_error(file, "study.design", "\"factorial\" (2^k full), \"ofat\" (one factor "
+                                            "at a time) or \"ablation\" (named variants against "
+                                            "the first), got \"" + s.design + "\"");
+  });
 
-  if (!(*st)["responses"])
-    throw key_error(file, "study.responses", "missing: the summary.json keys to analyse");
-  s.responses = string_list(*(*st)["responses"].node(), file, "study.responses", false);
-  if (s.responses.empty())
-    throw key_error(file, "study.responses", "name at least one response");
-  for (auto& r : s.responses)
-  {
-    auto& known = known_responses();
-    if (std::none_of(known.begin(), known.end(), [&](auto& k) { return k.first == r; }))
+  errors.attempt([&] {
+    if (!(*st)["responses"])
+      throw key_error(file, "study.responses", "missing: the summary.json keys to analyse");
+    s.responses = string_list(*(*st)["responses"].node(), file, "study.responses", false);
+    if (s.responses.empty())
+      throw key_error(file, "study.responses", "name at least one response");
+    for (auto& r : s.responses)
     {
-      std::string list;
-      for (auto& k : known)
-        list += (list.empty() ? "" : ", ") + k.first;
-      throw key_error(file, "study.responses", "unknown response '" + r + "'; one of " + list);
+      auto& known = known_responses();
+      if (std::none_of(known.begin(), known.end(), [&](auto& k) { return k.first == r; }))
+      {
+        std::string list;
+        for (auto& k : known)
+          list += (list.empty() ? "" : ", ") + k.first;
+        throw key_error(file, "study.responses", "unknown response '" + r + "'; one of " + list);
+      }
+      if (std::count(s.responses.begin(), s.responses.end(), r) > 1)
+        throw key_error(file, "study.responses", "'" + r + "' is listed twice");
     }
-    if (std::count(s.responses.begin(), s.responses.end(), r) > 1)
-      throw key_error(file, "study.responses", "'" + r + "' is listed twice");
-  }
+  });
 
-  if (auto* set = (*st)["set"].node())
-    s.sets = string_list(*set, file, "study.set", false);
+  errors.attempt([&] {
+    if (auto* set = (*st)["set"].node())
+      s.sets = string_list(*set, file, "study.set", false);
+  });
 
   auto integer = [&](const char* key, long def, long lo, long hi)
   {
@@ -321,48 +339,69 @@ Study Study::load(const fs::path& file)
                       format("an integer in [%ld, %ld], got ", lo, hi) + literal(*n));
     return int(*v);
   };
-  s.ranks = integer("ranks", 1, 1, 4096);
-  const long cores = std::max(1u, std::thread::hardware_concurrency());
-  s.jobs = integer("jobs", std::max(1L, cores / s.ranks), 1, 4096);
-  s.mpiexec = (*st)["mpiexec"].value_or<std::string>("mpiexec --bind-to none");
-  if (s.mpiexec.find_first_not_of(" \t") == std::string::npos)
-    throw key_error(file, "study.mpiexec", "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
+  s.ranks = 1;
+  errors.attempt([&] { s.ranks = integer("ranks", 1, 1, 4096); });
+  errors.attempt([&] {
+    const long cores = std::max(1u, std::thread::hardware_concurrency());
+    s.jobs = integer("jobs", std::max(1L, cores / s.ranks), 1, 4096);
+  });
+  errors.attempt([&] {
+    s.mpiexec = (*st)["mpiexec"].value_or<std::string>("mpiexec --bind-to none");
+    if (s.mpiexec.find_first_not_of(" \t") == std::string::npos)
+      throw key_error(file, "study.mpiexec",
+                      "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
+  });
 
   // The design's cases: factors and their levels, or named variants.
   const bool ablation = s.design == "ablation";
-  if (ablation && t.contains("factor"))
-    throw key_error(file, "factor", "an ablation study compares [[variant]] tables and takes no "
-                                    "[[factor]]; design = \"factorial\" or \"ofat\" varies factors");
-  if (!ablation && t.contains("variant"))
-    throw key_error(file, "variant", "[[variant]] tables are the cases of design = \"ablation\"; "
-                                     "a " + s.design + " study varies [[factor]] tables");
-  if (ablation)
-    read_variants(t, s);
-  else
-    read_factors(t, s);
+  if (design_read)
+    errors.attempt([&] {
+      if (ablation && t.contains("factor"))
+        throw key_error(file, "factor", "an ablation study compares [[variant]] tables and takes "
+                                        "no [[factor]]; design = \"factorial\" or \"ofat\" "
+                                        "varies factors");
+      if (!ablation && t.contains("variant"))
+        throw key_error(file, "variant", "[[variant]] tables are the cases of design = "
+                                         "\"ablation\"; a " + s.design
+                                             + " study varies [[factor]] tables");
+      if (ablation)
+        read_variants(t, s, errors);
+      else if (scene_read || !t.contains("factor"))
+        read_factors(t, s, errors);
+    });
 
   // Every case's scene must load: unknown keys, types and ranges are
-  // caught here, before anything runs. Two variants whose resolved scenes
-  // agree would be the same case.
-  std::vector<std::string> resolved;
-  for (std::size_t c = 0; c < s.cases.size(); ++c)
+  // caught here, before anything runs (the base scene's own problems
+  // once). Two variants whose resolved scenes agree would be the same case.
+  if (errors.empty())
   {
-    try
-    {
-      resolved.push_back(scene::Scene::load(s.cases[c].scene, s.cases[c].sets).to_toml());
-    }
-    catch (const Error& e)
-    {
-      throw Error(file.string() + ": " + case_name(c, s.cases.size()) + " ("
-                  + describe_case(s, s.cases[c]) + "): " + e.what());
-    }
-    for (std::size_t d = 0; ablation && d < c; ++d)
-      if (resolved[d] == resolved[c])
-        throw key_error(file, "variant[" + std::to_string(c + 1) + "].set",
-                        "'" + s.variants[c].name + "' makes the same scene as '"
-                            + s.variants[d].name + "' (with study.set, their overrides come to "
-                            "the same values): the two would be the same case");
+    std::vector<std::string> resolved(s.cases.size());
+    std::vector<bool> loaded(s.cases.size(), false);
+    for (std::size_t c = 0; c < s.cases.size(); ++c)
+      loaded[c] = errors.attempt([&] {
+        try
+        {
+          resolved[c] = scene::Scene::load(s.cases[c].scene, s.cases[c].sets).to_toml();
+        }
+        catch (const Error& e)
+        {
+          throw Error(file.string() + ": " + case_name(c, s.cases.size()) + " ("
+                      + describe_case(s, s.cases[c]) + "): " + e.what());
+        }
+      });
+    for (std::size_t c = 0; ablation && c < s.cases.size(); ++c)
+      for (std::size_t d = 0; d < c; ++d)
+        if (loaded[c] && loaded[d] && resolved[d] == resolved[c])
+        {
+          errors.add(key_error(file, "variant[" + std::to_string(c + 1) + "].set",
+                               "'" + s.variants[c].name + "' makes the same scene as '"
+                                   + s.variants[d].name + "' (with study.set, their overrides "
+                                   "come to the same values): the two would be the same case")
+                         .what());
+          break;
+        }
   }
+  errors.raise();
   return s;
 }
 

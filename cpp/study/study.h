@@ -38,7 +38,7 @@ struct Case
   std::filesystem::path scene;   ///< the scene it overrides (the study's, or its variant's)
 };
 
-/// A validated study file (README "Studies").
+/// A validated study file (docs/manual.md, "Studies").
 struct Study
 {
   std::filesystem::path file;  ///< the study file
@@ -62,7 +62,7 @@ struct Study
 };
 
 /// The responses a study may ask for: the numeric summary.json keys of a
-/// puff run (design.md section 10), with their units.
+/// puff run (docs/physics.md section 10), with their units.
 const std::vector<std::pair<std::string, std::string>>& known_responses();
 
 /// Command-line settings of a study.

@@ -36,7 +36,7 @@ struct Report
 };
 
 /// Find the stress-free reference geometry X whose pressurised shape is
-/// the mesh's current geometry x_imaged (design.md section 7), by the
+/// the mesh's current geometry x_imaged (docs/physics.md section 7), by the
 /// backward-displacement fixed point
 ///
 ///     X_0 = x_imaged,  X_{k+1} = X_k - omega_k (x(X_k) - x_imaged),
