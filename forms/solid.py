@@ -86,7 +86,7 @@ press_profile = Coefficient(nodal_scalar)  # shape f of the press [-]
 lid_1 = Constant(tetrahedron)
 lid_2 = Constant(tetrahedron)
 
-# Fixed quadrature degrees: UFL's estimate explodes on exp() (toolchain.md).
+# Fixed quadrature degrees: UFL's estimate explodes on exp() (docs/physics.md section 20).
 dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
 # The volumetric energy's measure: one point (the centroid) when mixed.
 dx_volume = Measure("dx", metadata={"quadrature_degree": 1 if variant == "mixed"  # noqa: F821

@@ -4,8 +4,9 @@
 // in B and match it: numbers to RTOL relative or ATOL absolute (default
 // 1e-14: round-off about zero), the rest exactly; B may hold no entry A
 // lacks. Left out, by name at any depth: what measures the run rather than
-// the physics (wall times, memory, the solvers' effort and residuals, the
-// rank count, the BLAS, a resumed run's bookkeeping). Exit 1 on a mismatch.
+// the physics (wall times, memory, the solvers' effort, residuals and
+// iteration histories, the rank count, the BLAS, a resumed run's
+// bookkeeping). Exit 1 on a mismatch.
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -23,7 +24,8 @@ const std::set<std::string> measures = {
     "profile",         "memory_peak_rank_mb", "memory_peak_total_mb", "ranks",
     "blas",            "checkpoints",     "resumed",                  "newton_iterations",
     "newton_residuals", "residual_N",     "linear_solves",            "jacobians",
-    "factorisations",  "krylov_iterations", "step_cuts",              "zero_pressure_newton_iterations"};
+    "factorisations",  "krylov_iterations", "step_cuts",              "zero_pressure_newton_iterations",
+    "zero_pressure_history"}; // the fixed point's path: its residuals and relaxation factors
 
 void mismatch(const std::string& path, const std::string& what)
 {

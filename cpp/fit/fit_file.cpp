@@ -361,16 +361,7 @@ Fit Fit::load(const fs::path& file)
   }) && scene_read;
 
   auto integer = [&](const char* key, long def, long lo, long hi)
-  {
-    const toml::node* n = (*ft)[key].node();
-    if (!n)
-      return int(def);
-    auto v = n->value_exact<int64_t>();
-    if (!v || *v < lo || *v > hi)
-      throw key_error(file, std::string("fit.") + key,
-                      format("an integer in [%ld, %ld], got ", lo, hi) + literal(*n));
-    return int(*v);
-  };
+  { return io::integer(*ft, "fit", key, def, lo, hi, file); };
   auto real = [&](const char* key, double def, double lo, double hi)
   {
     auto v = number(*ft, key, file, std::string("fit.") + key);

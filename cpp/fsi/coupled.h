@@ -105,6 +105,7 @@ public:
 
   /// The stacked unknowns (fields: solid, air, mesh_motion).
   solver::Monolithic& unknowns() { return *_unknowns; }
+  const solver::Monolithic& unknowns() const { return *_unknowns; }
   /// Interface nodes paired (each with up to 3 coupled components).
   std::size_t interface_nodes() const { return _nodes.size(); }
   /// Why the current state is not admissible (an inverted solid element

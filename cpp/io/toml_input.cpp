@@ -34,6 +34,19 @@ toml::table parse_toml(const fs::path& file, const std::string& what)
   }
 }
 
+int integer(const toml::table& t, const std::string& section, const std::string& key, long def,
+            long lo, long hi, const fs::path& file)
+{
+  const toml::node* n = t[key].node();
+  if (!n)
+    return int(def);
+  auto v = n->value_exact<int64_t>();
+  if (!v || *v < lo || *v > hi)
+    throw key_error(file, section + "." + key,
+                    format("an integer in [%ld, %ld], got ", lo, hi) + literal(*n));
+  return int(*v);
+}
+
 std::string literal(double x)
 {
   char text[64];

@@ -61,6 +61,11 @@ private:
 /// naming the file, and the line and column of a syntax error.
 toml::table parse_toml(const std::filesystem::path& file, const std::string& what);
 
+/// The integer at `key` of the table `t` (named `section` in the file, e.g.
+/// "study"), `def` if absent; a key_error unless in [lo, hi].
+int integer(const toml::table& t, const std::string& section, const std::string& key, long def,
+            long lo, long hi, const std::filesystem::path& file);
+
 /// The TOML literal of a value node (what --set takes); numbers in their
 /// shortest round trip (0.05, not 0.050000000000000003).
 std::string literal(const toml::node& v);

@@ -273,10 +273,10 @@ CouplingBlock::CouplingBlock(SolidBlock& solid, AirBlock& air, MeshMotionBlock& 
 
 void CouplingBlock::describe(nlohmann::json& summary, io::RunFolder& folder) const
 {
-  summary["coupled_dofs"] = const_cast<fsi::Coupled&>(coupled).unknowns().size_global();
+  const std::int64_t dofs = coupled.unknowns().size_global();
+  summary["coupled_dofs"] = dofs;
   summary["interface_nodes"] = coupled.interface_nodes();
-  folder.log(format("coupled: %lld dofs, %zu interface nodes",
-                    (long long)summary["coupled_dofs"].get<std::int64_t>(),
+  folder.log(format("coupled: %lld dofs, %zu interface nodes", (long long)dofs,
                     coupled.interface_nodes()));
 }
 

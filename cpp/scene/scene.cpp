@@ -1,4 +1,5 @@
 #include "scene/scene.h"
+#include "scene/visitor.h"
 
 #include <algorithm>
 #include <cmath>
@@ -653,59 +654,43 @@ bool Scene::has(const std::string& key) const
   return _resolved.at_path(key).node() != nullptr;
 }
 
-bool Scene::boolean(const std::string& key) const
+namespace
 {
-  return node(key).value<bool>().value();
+/// A resolved value as the field type T holds it.
+template <class T>
+T value_as(const toml::node& n)
+{
+  T v{};
+  Visitor::assign(n, &v);
+  return v;
 }
+} // namespace
 
-int Scene::integer(const std::string& key) const
-{
-  return static_cast<int>(node(key).value<std::int64_t>().value());
-}
+bool Scene::boolean(const std::string& key) const { return value_as<bool>(node(key)); }
 
-double Scene::real(const std::string& key) const
-{
-  return number(node(key));
-}
+int Scene::integer(const std::string& key) const { return value_as<int>(node(key)); }
+
+double Scene::real(const std::string& key) const { return value_as<double>(node(key)); }
 
 std::string Scene::string(const std::string& key) const
 {
-  return node(key).value<std::string>().value();
+  return value_as<std::string>(node(key));
 }
 
 std::vector<std::string> Scene::strings(const std::string& key) const
 {
-  std::vector<std::string> out;
-  for (const auto& v : *node(key).as_array())
-    out.push_back(v.value<std::string>().value());
-  return out;
+  return value_as<std::vector<std::string>>(node(key));
 }
 
 std::vector<std::array<double, 3>> Scene::points(const std::string& key) const
 {
-  std::vector<std::array<double, 3>> out;
-  for (const auto& p : *node(key).as_array())
-  {
-    const auto& a = *p.as_array();
-    out.push_back({number(a[0]), number(a[1]), number(a[2])});
-  }
-  return out;
+  return value_as<Points>(node(key));
 }
 
 std::vector<std::pair<std::string, std::string>>
 Scene::options(const std::string& key) const
 {
-  std::vector<std::pair<std::string, std::string>> out;
-  for (auto&& [k, v] : *node(key).as_table())
-  {
-    std::ostringstream s;
-    if (v.is_string())
-      s << v.as_string()->get();
-    else
-      v.visit([&](auto&& x) { s << x; });
-    out.emplace_back(std::string(k.str()), s.str());
-  }
-  return out;
+  return value_as<Options>(node(key));
 }
 
 std::vector<std::string> Scene::tables(const std::string& key) const

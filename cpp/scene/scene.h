@@ -118,6 +118,8 @@ public:
 
   /// Does the resolved scene hold this key?
   bool has(const std::string& key) const;
+  /// The resolved value of a key, or null where it does not apply.
+  const toml::node* find(const std::string& key) const { return _resolved.at_path(key).node(); }
   bool boolean(const std::string& key) const;
   int integer(const std::string& key) const;
   double real(const std::string& key) const;

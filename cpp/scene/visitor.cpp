@@ -21,10 +21,8 @@ void Visitor::path(const Entry& e, std::filesystem::path& field)
   field = text.empty() ? std::filesystem::path() : resolve(text);
 }
 
-void Visitor::parse_default(const Key& key, Field field)
+void Visitor::assign(const toml::node& n, Field field)
 {
-  const toml::table t = toml::parse("v = " + key.default_value);
-  const toml::node& n = *t.get("v");
   auto number = [](const toml::node& x)
   { return x.is_integer() ? static_cast<double>(x.as_integer()->get()) : x.as_floating_point()->get(); };
   std::visit(
@@ -54,10 +52,27 @@ void Visitor::parse_default(const Key& key, Field field)
             f->push_back({number(a[0]), number(a[1]), number(a[2])});
           }
         }
-        else
-          f->clear(); // options: an empty table
+        else // options: name = value, the value as text
+        {
+          f->clear();
+          for (auto&& [k, v] : *n.as_table())
+          {
+            std::ostringstream text;
+            if (v.is_string())
+              text << v.as_string()->get();
+            else
+              v.visit([&](auto&& x) { text << x; });
+            f->emplace_back(std::string(k.str()), text.str());
+          }
+        }
       },
       field);
+}
+
+void Visitor::parse_default(const Key& key, Field field)
+{
+  const toml::table t = toml::parse("v = " + key.default_value);
+  assign(*t.get("v"), field);
 }
 
 void Declarer::entry(const Key& key, Field) { keys.push_back(key); }
@@ -79,32 +94,10 @@ std::filesystem::path Reader::resolve(const std::string& text) const
 
 void Reader::entry(const Key& key, Field field)
 {
-  const std::string& name = key.name;
-  if (!_scene.has(name))
-  {
+  if (const toml::node* n = _scene.find(key.name))
+    assign(*n, field);
+  else
     parse_default(key, field);
-    return;
-  }
-  std::visit(
-      [&](auto* f)
-      {
-        using T = std::remove_pointer_t<decltype(f)>;
-        if constexpr (std::is_same_v<T, double>)
-          *f = _scene.real(name);
-        else if constexpr (std::is_same_v<T, int>)
-          *f = _scene.integer(name);
-        else if constexpr (std::is_same_v<T, bool>)
-          *f = _scene.boolean(name);
-        else if constexpr (std::is_same_v<T, std::string>)
-          *f = _scene.string(name);
-        else if constexpr (std::is_same_v<T, std::vector<std::string>>)
-          *f = _scene.strings(name);
-        else if constexpr (std::is_same_v<T, Points>)
-          *f = _scene.points(name);
-        else
-          *f = _scene.options(name);
-      },
-      field);
 }
 
 void Reader::tables(const std::string& section, const std::vector<std::string>&,

@@ -74,12 +74,16 @@ public:
                       const std::function<void(const std::string& part)>& each)
       = 0;
 
-protected:
+  /// A field of one of the kinds a key holds.
   using Field = std::variant<double*, int*, bool*, std::string*, std::vector<std::string>*,
                              Points*, Options*>;
+  /// Set `field` from a TOML value (of the field's kind, as validated).
+  static void assign(const toml::node& value, Field field);
+
+protected:
   /// One key and the field it sets (a choice's and a path's through a string).
   virtual void entry(const Key& key, Field field) = 0;
-  /// Set `field` from a TOML literal (a key's default).
+  /// Set `field` from a key's default (a TOML literal).
   static void parse_default(const Key& key, Field field);
 
 private:

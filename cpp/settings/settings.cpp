@@ -184,6 +184,26 @@ std::optional<puff::PulseShape> pulse_shape(const scene::Scene& scene, const Puf
   }
 }
 
+/// Read the CSV file a key names with `read` (which throws
+/// std::invalid_argument naming the file and line); `needs`: why it must
+/// be given. A problem at the key instead.
+template <class Read>
+void read_table(const scene::Scene& scene, Errors& e, const std::string& key,
+                const std::filesystem::path& file, const std::string& needs, Read&& read)
+{
+  if (file.empty())
+    e.at(scene, key, "key '" + key + "': " + needs);
+  else
+    try
+    {
+      read(file);
+    }
+    catch (const std::invalid_argument& x)
+    {
+      e.at(scene, key, "key '" + key + "': " + x.what());
+    }
+}
+
 /// The puff's prescribed pressure and the measured pulse (a prescribed
 /// pulse's, the nozzle's history's): built, the files read.
 void build_puff(const scene::Scene& scene, Settings& s, Errors& e)
@@ -196,54 +216,24 @@ void build_puff(const scene::Scene& scene, Settings& s, Errors& e)
   if (p.load == Load::gaussian)
     p.pressure = std::make_shared<puff::Gaussian>(p.peak, p.peak_time, p.width_t, p.width_r);
   if (p.load == Load::pulse)
-  {
-    if (p.profile.empty())
-      e.at(scene, "puff.profile", "key 'puff.profile': puff.load = \"pulse\" needs a CSV file "
-                                  "(r_mm,p_mmHg)");
-    else
-      try
-      {
-        auto profile = puff::RadialProfile::read(p.profile);
-        if (p.pulse_shape)
-          p.pressure = std::make_shared<puff::Pulse>(p.peak, *p.pulse_shape, std::move(profile));
-      }
-      catch (const std::invalid_argument& x)
-      {
-        e.at(scene, "puff.profile", std::string("key 'puff.profile': ") + x.what());
-      }
-  }
+    read_table(scene, e, "puff.profile", p.profile,
+               "puff.load = \"pulse\" needs a CSV file (r_mm,p_mmHg)", [&](const auto& file) {
+                 auto profile = puff::RadialProfile::read(file);
+                 if (p.pulse_shape)
+                   p.pressure
+                       = std::make_shared<puff::Pulse>(p.peak, *p.pulse_shape, std::move(profile));
+               });
   if (p.load == Load::table)
-  {
-    if (p.table.empty())
-      e.at(scene, "puff.table", "key 'puff.table': puff.load = \"table\" needs a CSV file "
-                                "(t_ms,r_mm,p_mmHg)");
-    else
-      try
-      {
-        p.pressure = std::make_shared<puff::Table>(puff::Table::read(p.table));
-      }
-      catch (const std::invalid_argument& x)
-      {
-        e.at(scene, "puff.table", std::string("key 'puff.table': ") + x.what());
-      }
-  }
+    read_table(scene, e, "puff.table", p.table,
+               "puff.load = \"table\" needs a CSV file (t_ms,r_mm,p_mmHg)",
+               [&](const auto& file)
+               { p.pressure = std::make_shared<puff::Table>(puff::Table::read(file)); });
   auto& in = s.air.inlet;
   if (!s.mesh.eye() && (p.load == Load::air || p.load == Load::fsi)
       && in.profile == InletSettings::Profile::table)
-  {
-    if (in.table.empty())
-      e.at(scene, "inlet.table", "key 'inlet.table': inlet.profile = \"table\" needs a CSV file "
-                                 "(x_mm,y_mm,z_mm,u_m_s)");
-    else
-      try
-      {
-        in.points = air::Inlet::read_table(in.table);
-      }
-      catch (const std::invalid_argument& x)
-      {
-        e.at(scene, "inlet.table", std::string("key 'inlet.table': ") + x.what());
-      }
-  }
+    read_table(scene, e, "inlet.table", in.table,
+               "inlet.profile = \"table\" needs a CSV file (x_mm,y_mm,z_mm,u_m_s)",
+               [&](const auto& file) { in.points = air::Inlet::read_table(file); });
 }
 
 /// An external mesh's groups against the scene's materials and boundaries.

@@ -329,16 +329,7 @@ Study Study::load(const fs::path& file)
   });
 
   auto integer = [&](const char* key, long def, long lo, long hi)
-  {
-    const toml::node* n = (*st)[key].node();
-    if (!n)
-      return int(def);
-    auto v = n->value_exact<int64_t>();
-    if (!v || *v < lo || *v > hi)
-      throw key_error(file, std::string("study.") + key,
-                      format("an integer in [%ld, %ld], got ", lo, hi) + literal(*n));
-    return int(*v);
-  };
+  { return io::integer(*st, "study", key, def, lo, hi, file); };
   s.ranks = 1;
   errors.attempt([&] { s.ranks = integer("ranks", 1, 1, 4096); });
   errors.attempt([&] {
