@@ -14,12 +14,14 @@
 #include "fsi/coupled.h"
 #include "mesh_motion/problem.h"
 #include "run/air_output.h"
-#include "run/model.h"
+#include "run/block.h"
 #include "run/stepper.h"
 #include "settings/settings.h"
 
 namespace nct
 {
+
+class SolidBlock;
 
 /// The air block: the air on its mesh (fixed, or moving with a mesh
 /// motion), its inlet in time, its record (the apex pressure, the

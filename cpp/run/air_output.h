@@ -15,7 +15,7 @@
 #include "io/output.h"
 #include "mesh_motion/problem.h"
 #include "meshio/model.h"
-#include "run/model.h"
+#include "run/block.h"
 #include "settings/settings.h"
 
 namespace nct

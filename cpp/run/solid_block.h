@@ -13,7 +13,7 @@
 #include "biomarkers/record.h"
 #include "cavity/cavity.h"
 #include "io/output.h"
-#include "run/model.h"
+#include "run/block.h"
 #include "run/stepper.h"
 #include "settings/settings.h"
 #include "solid/problem.h"

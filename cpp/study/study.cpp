@@ -364,6 +364,20 @@ Study Study::load(const fs::path& file)
   // Every case's scene must load: unknown keys, types and ranges are
   // caught here, before anything runs (the base scene's own problems
   // once). Two variants whose resolved scenes agree would be the same case.
+  // The base scene with the study's overrides first: its problems once,
+  // not once per case.
+  if (errors.empty())
+    errors.attempt([&] {
+      try
+      {
+        scene::Scene::load(s.scene, s.sets);
+      }
+      catch (const Error& e)
+      {
+        throw key_error(file, "study.scene", std::string("the base scene with study.set: ")
+                                                 + e.what());
+      }
+    });
   if (errors.empty())
   {
     std::vector<std::string> resolved(s.cases.size());
