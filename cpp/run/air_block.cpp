@@ -397,32 +397,34 @@ biomarkers::Columns CouplingBlock::at_rest()
 
 int CouplingBlock::symmetry() const { return _solid.problem.symmetry_factor(); }
 
-void CouplingBlock::start_energy()
+CouplingBlock::Energy::State CouplingBlock::energy_state() const
 {
   const auto& solid = _solid.problem;
-  _energy.kinetic = solid.kinetic_energy();
-  _energy.start = _energy.kinetic + solid.strain_energy();
-  _energy.volumes = solid.cavity_volumes();
-  _energy.pressures = _solid.cavity_pressures();
+  const double kinetic = solid.kinetic_energy();
+  return {kinetic, kinetic + solid.strain_energy(), solid.cavity_volumes(),
+          _solid.cavity_pressures()};
+}
+
+void CouplingBlock::start_energy()
+{
+  _energy.last = energy_state();
+  _energy.start = _energy.last.total;
   _energy.power = symmetry() * _air.problem.traction_power();
 }
 
 void CouplingBlock::account(double dt, double power)
 {
   auto& e = _energy;
-  const auto& solid = _solid.problem;
-  const double kinetic = solid.kinetic_energy(), total = kinetic + solid.strain_energy();
-  const auto volumes = solid.cavity_volumes();
-  const auto pressures = _solid.cavity_pressures();
+  const Energy::State now = energy_state();
   const double reaction_power = symmetry() * _power.solid;
   e.traction += 0.5 * dt * (e.power + power);
   e.reaction += 0.5 * dt * (e.reaction_power + reaction_power);
-  e.damping += dt * settings.solid.dynamics.damping * (e.kinetic + kinetic);
-  for (std::size_t c = 0; c < volumes.size(); ++c)
-    e.cavities += 0.5 * (e.pressures[c] + pressures[c]) * (volumes[c] - e.volumes[c]);
-  e.change = total - e.start;
-  e.power = power, e.reaction_power = reaction_power, e.kinetic = kinetic;
-  e.volumes = volumes, e.pressures = pressures;
+  e.damping += dt * settings.solid.dynamics.damping * (e.last.kinetic + now.kinetic);
+  for (std::size_t c = 0; c < now.volumes.size(); ++c)
+    e.cavities += 0.5 * (e.last.pressures[c] + now.pressures[c])
+                  * (now.volumes[c] - e.last.volumes[c]);
+  e.change = now.total - e.start;
+  e.power = power, e.reaction_power = reaction_power, e.last = now;
 }
 
 void CouplingBlock::summarise(nlohmann::json& summary) const
@@ -451,7 +453,7 @@ nlohmann::json CouplingBlock::save(io::CheckpointWriter& writer) const
   return {{"coupled", coupled.save(writer)},
           {"energy",
            {e.traction, e.reaction, e.change, e.damping, e.cavities, e.start, e.power,
-            e.reaction_power, e.kinetic, e.pressures, e.volumes}},
+            e.reaction_power, e.last.kinetic, e.last.total, e.last.volumes, e.last.pressures}},
           {"worst_jacobian", _worst_jacobian},
           {"worst_power", _worst_power},
           {"largest_power", _largest_power}};
@@ -464,8 +466,8 @@ void CouplingBlock::restore(const io::CheckpointReader& checkpoint, const nlohma
     return;
   coupled.restore(checkpoint, state.at("coupled"));
   const auto& e = state.at("energy");
-  _energy = {e[0], e[1], e[2], e[3], e[4], e[5], e[6], e[7], e[8],
-             e[9].get<std::vector<double>>(), e[10].get<std::vector<double>>()};
+  _energy = {e[0], e[1], e[2], e[3], e[4], e[5], e[6], e[7],
+             {e[8], e[9], e[10].get<std::vector<double>>(), e[11].get<std::vector<double>>()}};
   _worst_jacobian = state.at("worst_jacobian");
   _worst_power = state.at("worst_power");
   _largest_power = state.at("largest_power");

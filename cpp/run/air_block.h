@@ -142,6 +142,10 @@ public:
   /// The columns' values at rest (before the puff).
   static biomarkers::Columns at_rest();
 
+  /// The energy account starts at the current state (the coupling's start).
+  void start_energy();
+
+private:
   /// The solid's energy balance over the puff [mJ, whole model]: its
   /// change of kinetic and strain energy, its mass damping's dissipation
   /// (2 c KE) and the cavities' work (p dV) against the work the air does
@@ -151,16 +155,18 @@ public:
   /// trapezoidal in time.
   struct Energy
   {
+    /// The solid at a step: KE, KE + SE, each cavity's volume and pressure.
+    struct State
+    {
+      double kinetic = 0, total = 0;
+      std::vector<double> volumes, pressures;
+    };
     double traction = 0, reaction = 0, change = 0, damping = 0, cavities = 0;
-    double start = 0;                 ///< KE + SE when the coupling started
-    double power = 0, reaction_power = 0, kinetic = 0; ///< the last step's
-    std::vector<double> pressures, volumes; ///< the last step's, per cavity
+    double start = 0;                   ///< KE + SE when the coupling started
+    double power = 0, reaction_power = 0; ///< the last step's
+    State last;                         ///< the last step's
   };
-  const Energy& energy() const { return _energy; }
-  /// The energy account starts at the current state (the coupling's start).
-  void start_energy();
-
-private:
+  Energy::State energy_state() const;
   int symmetry() const;
   /// The energy account at a converged, advanced step of length dt.
   void account(double dt, double traction_power);

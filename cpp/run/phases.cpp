@@ -65,14 +65,14 @@ double record_solid_step(RunState& s, SolidBlock& solid, nlohmann::json step, do
   for (const auto& [name, value] : columns)
     step[name] = value;
   std::string line;
-  solid.record(step, line, t);
+  const biomarkers::Columns cavities = solid.record(step, line, t);
   const std::string probe = solid.mesh.probe_names.empty()
                                 ? ""
                                 : solid.mesh.probe_names[0] + "_displacement_mm";
   const double axial = probe.empty() ? 0.0 : step[probe][1].get<double>();
   if (dt)
   {
-    solid.add_frame(t, *dt, report, columns);
+    solid.add_frame(t, *dt, report, columns, cavities);
     if (solid.frames)
       text = format("  (frames %+.5f mm)", solid.frames->last_apex()) + text;
   }
@@ -250,11 +250,11 @@ private:
 
 /// A quasi-static phase's converged step at load fraction f.
 void record_quasi_static(RunState& s, SolidBlock& solid, const char* phase, double t0, double f,
-                         double press, const solver::NewtonReport& report)
+                         const solver::NewtonReport& report)
 {
-  record_solid_step(s, solid,
-                    {{"phase", phase}, {"load_fraction", f}, {"press_mmHg", press / mmHg}},
-                    t0 + f, std::nullopt, report);
+  record_solid_step(
+      s, solid, {{"phase", phase}, {"load_fraction", f}, {"press_mmHg", solid.press_now() / mmHg}},
+      t0 + f, std::nullopt, report);
 }
 
 /// Phase 2: the cavities inflated by a pressure ramp to the IOP; after
@@ -271,7 +271,7 @@ public:
       s.stepper.ramp(s.solid_newton(), "inflate", s.settings.solid.cavity.inflate_steps,
                      _solid.system(), [&](double f) { _solid.inflate(f); },
                      [&](double f, const auto& report)
-                     { record_quasi_static(s, _solid, "inflate", _t0, f, 0.0, report); });
+                     { record_quasi_static(s, _solid, "inflate", _t0, f, report); });
     if (_solid.x_imaged.empty())
       return;
     // The round trip: the inflated stress-free geometry against the imaged one.
@@ -302,7 +302,7 @@ private:
     s.stepper.newton_iterations += report.iterations;
     if (report.converged)
     {
-      record_quasi_static(s, _solid, "inflate", _t0, 1.0, 0.0, report);
+      record_quasi_static(s, _solid, "inflate", _t0, 1.0, report);
       return true;
     }
     s.folder.log(format("  inflate: Newton from zero pressure's last state failed (%s); "
@@ -349,11 +349,11 @@ public:
   void run(RunState& s) override
   {
     _solid.open_output(s.folder, s.summary, _t0);
-    const double peak = s.settings.solid.press.pressure * mmHg;
+    _solid.start_press();
     s.stepper.ramp(s.solid_newton(), "press", s.settings.solid.press.steps, _solid.system(),
                    [&](double f) { _solid.press(f); },
                    [&](double f, const auto& report)
-                   { record_quasi_static(s, _solid, "press", _t0, f, f * peak, report); });
+                   { record_quasi_static(s, _solid, "press", _t0, f, report); });
   }
 
 private:
@@ -465,7 +465,8 @@ protected:
   {
     start_dynamics(s, _solid, 0);
     if (!resumed && _solid.frames && _solid.frames->frames() == 0)
-      _solid.add_frame(0, 0, solver::NewtonReport{true, 0, {0.0}, ""}, first);
+      _solid.add_frame(0, 0, solver::NewtonReport{true, 0, {0.0}, ""}, first,
+                       _solid.cavity_state());
   }
   double dt(const RunState& s) const override { return s.settings.solid.dynamics.dt; }
   void finish_solid(RunState& s)

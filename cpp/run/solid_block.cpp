@@ -91,9 +91,10 @@ biomarkers::Columns SolidBlock::cavity_state() const
 
 // The follower pressure on the pressed surface.
 
+void SolidBlock::start_press() { problem.set_press_profile(_press_profile); }
+
 void SolidBlock::press(double f)
 {
-  problem.set_press_profile(_press_profile);
   _press = f * _press_peak;
   problem.set_press(_press);
 }
@@ -210,7 +211,7 @@ std::vector<std::array<double, 3>> SolidBlock::probe_displacement() const
   return _output->probes.displacement();
 }
 
-void SolidBlock::record(nlohmann::json& step, std::string& text, double time)
+biomarkers::Columns SolidBlock::record(nlohmann::json& step, std::string& text, double time)
 {
   const auto cavities = cavity_state();
   const auto u = probe_displacement();
@@ -230,6 +231,7 @@ void SolidBlock::record(nlohmann::json& step, std::string& text, double time)
   }
   _probes_csv += "\n";
   write_fields(time);
+  return cavities;
 }
 
 void SolidBlock::summarise(nlohmann::json& summary) const
@@ -257,11 +259,11 @@ void SolidBlock::summarise(nlohmann::json& summary) const
 }
 
 void SolidBlock::add_frame(double t, double dt, const solver::NewtonReport& report,
-                           const biomarkers::Columns& columns)
+                           const biomarkers::Columns& columns, const biomarkers::Columns& cavities)
 {
   if (!frames)
     return;
-  auto state = cavity_state();
+  auto state = cavities;
   state.insert(state.end(), columns.begin(), columns.end());
   state.push_back({"strain_energy_mJ", problem.strain_energy()});
   state.push_back({"kinetic_energy_mJ", problem.kinetic_energy()});

@@ -65,8 +65,12 @@ public:
   }
 
   // The follower pressure on the pressed surface: the press and the prescribed puff.
+  /// The press's shape (press.profile) on the pressed surface, before a ramp.
+  void start_press();
   /// The press at `f` of its peak (press.pressure).
   void press(double f);
+  /// The press now [MPa].
+  double press_now() const { return _press; }
   /// The press held and the prescribed puff's pressure at time t [ms].
   void set_load(double t);
   /// The prescribed puff's apex pressure [mmHg] at t (0 without one).
@@ -92,15 +96,17 @@ public:
   void open_output(io::RunFolder& folder, nlohmann::json& summary, double t);
   /// This block's keys of a converged step (its cavities, its probes'
   /// displacements) into `step` (which holds its "phase"), its text for the
-  /// log; the probes' row into probes.csv, the fields written.
-  void record(nlohmann::json& step, std::string& text, double time);
+  /// log; the probes' row into probes.csv, the fields written. Returns the
+  /// cavities' state (cavity_state()).
+  biomarkers::Columns record(nlohmann::json& step, std::string& text, double time);
 
   /// The probes' displacements now (every rank gets them).
   std::vector<std::array<double, 3>> probe_displacement() const;
-  /// The state at t into the frames (if any): the cavities, `columns`,
-  /// the energies; the solver's figures go to the step table only.
+  /// The state at t into the frames (if any): the cavities (cavity_state()
+  /// now), `columns`, the energies; the solver's figures go to the step
+  /// table only.
   void add_frame(double t, double dt, const solver::NewtonReport& report,
-                 const biomarkers::Columns& columns);
+                 const biomarkers::Columns& columns, const biomarkers::Columns& cavities);
   std::optional<biomarkers::Record> frames;
 
 private:

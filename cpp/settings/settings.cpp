@@ -120,13 +120,12 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
          {"press", &b.press},   {"inlet", &b.inlet},       {"outlet", &b.outlet},
          {"wall", &b.wall},     {"interface", &b.interface}};
   if (!flow)
-    for (const auto& [name, list] : groups)
-      if (std::string(name) == "inlet" || std::string(name) == "outlet"
-          || std::string(name) == "wall" || std::string(name) == "interface")
-        if (!list->empty())
-          at(std::string("boundary.") + name,
-             std::string("key 'boundary.") + name + "': a fluid boundary; it needs a fluid part "
-             "and puff.load = \"fsi\" or \"air\"");
+    for (const auto& [name, list] : {std::pair{"inlet", &b.inlet}, std::pair{"outlet", &b.outlet},
+                                     std::pair{"wall", &b.wall}, std::pair{"interface", &b.interface}})
+      if (!list->empty())
+        at(std::string("boundary.") + name,
+           std::string("key 'boundary.") + name + "': a fluid boundary; it needs a fluid part "
+           "and puff.load = \"fsi\" or \"air\"");
   if (load == Load::air && !b.interface.empty())
     at("boundary.interface", "key 'boundary.interface': the fluid alone (puff.load = \"air\") "
                              "has no interface");
