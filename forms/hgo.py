@@ -12,10 +12,31 @@ iterate gives a large but finite stress instead of overflow. This module
 gives Psi_iso; the formulation adds the volumetric U(J) of volumetric.py
 (a mixed formulation integrates it differently).
 
+On an axisymmetric section (section.py) a family whose direction turns
+with the azimuth phi (the cornea's nasal-temporal and superior-inferior
+families: fixed directions in space, so in the local frame (r, z, theta)
+they turn) is not axisymmetric. Its azimuthal mean is: the section holds
+the fibre energy averaged over the azimuth,
+
+    Psi_f = 1/n sum_k [W(Ibar_4(phi_k)) + W(Ibar_6(phi_k))],
+    phi_k = 2 pi (k + 1/2) / n,  W(I) = k1/(2 k2) [exp(k2 <I-1>^2) - 1],
+
+with each family's direction at phi_k in the local frame taken from the
+3D rule (cpp/solid/material.cpp): the midpoint rule, exact to round-off
+for a family fixed in the local frame (the limbus' circumferential one,
+Ibar_4 = Cbar_thth) and spectrally accurate for the smooth turning of
+the cornea's. The energy is averaged, not the structure tensor: a
+generalised structure tensor (Gasser, Ogden, Holzapfel, J. R. Soc.
+Interface 3 (2006) 15-35) puts the mean stretch into one exponential and
+changes the response; averaging the energy over the directions is the
+angular integration of Y. Lanir, J. Biomech. 16 (1983) 1-12. At the apex
+the cornea's mean is the planar-isotropic distribution; away from it the
+families lean towards the meridian as the surface tilts.
+
 Reference: G. A. Holzapfel, T. C. Gasser, R. W. Ogden, J. Elasticity 61 (2000)
 1-48, eq. (53)-(55); docs/physics.md section 5.
 """
-from ufl import conditional, dot, exp, gt, min_value, tr
+from ufl import as_vector, conditional, dot, exp, gt, min_value, tr
 
 import kinematics
 
@@ -37,3 +58,16 @@ def isochoric_energy(F, c10, k1, k2, a4, a6):
     Ibar6 = dot(a6, Cbar * a6)
     return (c10 * (tr(Cbar) - 3.0)
             + fibre_energy(k1, k2, Ibar4) + fibre_energy(k1, k2, Ibar6))
+
+
+def azimuthal_isochoric_energy(F, c10, k1, k2, g4, g6, angles):
+    """Psi_iso(F) [MPa] of an axisymmetric section, the fibre energy averaged
+    over `angles` azimuths; g4, g6 hold each family's unit (or zero)
+    direction in (r, z, theta) at phi_k as entries 3k to 3k+2."""
+    Cbar = kinematics.isochoric_right_cauchy_green(F)
+    psi = c10 * (tr(Cbar) - 3.0)
+    for k in range(angles):
+        for g in (g4, g6):
+            a = as_vector([g[3 * k], g[3 * k + 1], g[3 * k + 2]])
+            psi = psi + fibre_energy(k1, k2, dot(a, Cbar * a)) / angles
+    return psi

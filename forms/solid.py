@@ -35,14 +35,21 @@ Saint Venant-Kirchhoff (saint_venant_kirchhoff.py) is not split.
   Springer 2013, ch. 8). One constraint per
   cell instead of one per point: no locking. Degree 2 only.
 
-`degree` (1 or 2), `quadrature_degree` of the cell integrals and `variant`
-are set by the CMake wrapper that includes this file (nct_add_form).
-Facet integrals always use 2 * degree.
+`dimension` (section.py) gives the model's dimension: "3d", or a 2D
+section, "axisymmetric" (every integral per radian, weighted by r; the
+fibre families averaged over the azimuth, hgo.py) or "plane" (plane
+strain, per unit thickness). On a section, F, N, v and x are 3D
+(section.py), so the laws and loads below are the 3D ones.
+
+`degree` (1 or 2), `quadrature_degree` of the cell integrals, `variant`
+and `dimension` are set by the CMake wrapper that includes this file
+(nct_add_form). Facet integrals use 2 * degree, one more where r weighs
+them.
 """
 import basix
 from ufl import (Coefficient, Constant, FacetNormal, FiniteElement, Measure,
-                 TestFunction, TrialFunction, VectorElement, derivative, det,
-                 diff, inner, grad, sqrt, tetrahedron, tr, Identity)
+                 SpatialCoordinate, TestFunction, TrialFunction, VectorElement, derivative,
+                 det, diff, inner, sqrt, tr, Identity)
 
 import cavity
 import dynamics
@@ -51,6 +58,7 @@ import hgo
 import kinematics
 import neo_hookean
 import saint_venant_kirchhoff
+import section
 import support
 import volumetric
 
@@ -58,10 +66,16 @@ import volumetric
 HGO, NEO_HOOKEAN, SAINT_VENANT_KIRCHHOFF, COMPRESSIBLE_NEO_HOOKEAN = 1, 2, 3, 4  # cell tags: law
 CAVITY_1_WALL, PRESS, CAVITY_2_WALL, SUPPORT = 1, 2, 3, 4  # facet tags: load
 
-element = VectorElement("Lagrange", tetrahedron, degree)  # noqa: F821 (set by the wrapper)
-cell_scalar = FiniteElement("DG", tetrahedron, 0)
-cell_vector = VectorElement("DG", tetrahedron, 0)
-nodal_scalar = FiniteElement("Lagrange", tetrahedron, 1)
+cell = section.cell(dimension)  # noqa: F821 (set by the wrapper)
+# The azimuths the fibre energy is averaged over (axisymmetric, hgo.py).
+fibre_angles = 16
+element = VectorElement("Lagrange", cell, degree)  # noqa: F821 (set by the wrapper)
+cell_scalar = FiniteElement("DG", cell, 0)
+# A fibre family per cell: its 3D direction; axisymmetric, its direction
+# in (r, z, theta) at each of the fibre_angles azimuths.
+cell_vector = VectorElement("DG", cell, 0,
+                            dim=3 * fibre_angles if dimension == "axisymmetric" else 3)  # noqa: F821
+nodal_scalar = FiniteElement("Lagrange", cell, 1)
 
 v = TestFunction(element)
 du = TrialFunction(element)
@@ -78,50 +92,73 @@ fibre_1 = Coefficient(cell_vector)  # first fibre family (unit or zero)
 fibre_2 = Coefficient(cell_vector)  # second fibre family (unit or zero)
 
 # Loads [MPa]: up to two cavities (the merged one, or aqueous and vitreous)
-p_cavity_1 = Constant(tetrahedron)
-p_cavity_2 = Constant(tetrahedron)
-p_press = Constant(tetrahedron)
+p_cavity_1 = Constant(cell)
+p_cavity_2 = Constant(cell)
+p_press = Constant(cell)
 press_profile = Coefficient(nodal_scalar)  # shape f of the press [-]
 # The cut's lid per cavity, A_lid / A_cut (support.py; 0: no lid) [-]
-lid_1 = Constant(tetrahedron)
-lid_2 = Constant(tetrahedron)
+lid_1 = Constant(cell)
+lid_2 = Constant(cell)
 
 # Fixed quadrature degrees: UFL's estimate explodes on exp() (docs/physics.md section 20).
 dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
 # The volumetric energy's measure: one point (the centroid) when mixed.
 dx_volume = Measure("dx", metadata={"quadrature_degree": 1 if variant == "mixed"  # noqa: F821
                                     else quadrature_degree})  # noqa: F821
-ds = Measure("ds", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
+# The weight r (axisymmetric; else 1) raises a facet integrand's degree by one.
+r = section.weight(cell, dimension)  # noqa: F821
+weighted = 0 if r == 1 else 1
+ds = Measure("ds", metadata={"quadrature_degree": 2 * degree + weighted})  # noqa: F821
 
-N = FacetNormal(tetrahedron)
+N = section.vector(FacetNormal(cell), dimension)  # noqa: F821
+grad_v = section.gradient(v, dimension)  # noqa: F821
+
+
+def pad(w):
+    """w as a 3-vector (section.py). Inline: in 3D it is w itself, and
+    FFCx names a coefficient after the last global bound to it."""
+    return section.vector(w, dimension)  # noqa: F821
+
+
+def deformation_gradient(w):
+    """The 3x3 F of the displacement (expression) w."""
+    return kinematics.deformation_gradient(w, dimension)  # noqa: F821
+
+
+def hgo_isochoric_energy(F):
+    """The HGO cornea's and limbus' Psi_iso; axisymmetric, its fibre energy
+    averaged over the azimuth (hgo.py)."""
+    if dimension == "axisymmetric":  # noqa: F821
+        return hgo.azimuthal_isochoric_energy(F, c10, k1, k2, fibre_1, fibre_2, fibre_angles)
+    return hgo.isochoric_energy(F, c10, k1, k2, fibre_1, fibre_2)
 
 
 def balance(w):
     """Internal work and pressure loads at the displacement (expression) w."""
-    Fw = kinematics.deformation_gradient(w)
+    Fw = deformation_gradient(w)
     Jw = det(Fw)
     P_volume = diff(volumetric.energy(Jw, kappa), Fw)
     P_cnh_volume = diff(compressible_neo_hookean.volumetric_energy(Jw, youngs_modulus,
                                                                    poisson_ratio), Fw)
-    return (inner(diff(hgo.isochoric_energy(Fw, c10, k1, k2, fibre_1, fibre_2), Fw), grad(v))
-            * dx(HGO)
-            + inner(diff(neo_hookean.isochoric_energy(Fw, c10), Fw), grad(v)) * dx(NEO_HOOKEAN)
-            + inner(P_volume, grad(v)) * (dx_volume(HGO) + dx_volume(NEO_HOOKEAN))
+    return (inner(diff(hgo_isochoric_energy(Fw), Fw), grad_v) * r * dx(HGO)
+            + inner(diff(neo_hookean.isochoric_energy(Fw, c10), Fw), grad_v) * r
+            * dx(NEO_HOOKEAN)
+            + inner(P_volume, grad_v) * r * (dx_volume(HGO) + dx_volume(NEO_HOOKEAN))
             + inner(diff(saint_venant_kirchhoff.energy(Fw, youngs_modulus, poisson_ratio), Fw),
-                    grad(v)) * dx(SAINT_VENANT_KIRCHHOFF)
+                    grad_v) * r * dx(SAINT_VENANT_KIRCHHOFF)
             + inner(diff(compressible_neo_hookean.shear_energy(Fw, Jw, youngs_modulus,
-                                                               poisson_ratio), Fw), grad(v))
-            * dx(COMPRESSIBLE_NEO_HOOKEAN)
-            + inner(P_cnh_volume, grad(v)) * dx_volume(COMPRESSIBLE_NEO_HOOKEAN)
-            + cavity.follower_pressure(p_cavity_1, Fw, N, v) * ds(CAVITY_1_WALL)
-            + cavity.follower_pressure(p_cavity_2, Fw, N, v) * ds(CAVITY_2_WALL)
-            + (support.lid_pressure(p_cavity_1, lid_1, N, v)
-               + support.lid_pressure(p_cavity_2, lid_2, N, v)) * ds(SUPPORT)
-            + cavity.follower_pressure(p_press * press_profile, Fw, N, v) * ds(PRESS))
+                                                               poisson_ratio), Fw), grad_v)
+            * r * dx(COMPRESSIBLE_NEO_HOOKEAN)
+            + inner(P_cnh_volume, grad_v) * r * dx_volume(COMPRESSIBLE_NEO_HOOKEAN)
+            + cavity.follower_pressure(p_cavity_1, Fw, N, pad(v)) * r * ds(CAVITY_1_WALL)
+            + cavity.follower_pressure(p_cavity_2, Fw, N, pad(v)) * r * ds(CAVITY_2_WALL)
+            + (support.lid_pressure(p_cavity_1, lid_1, N, pad(v))
+               + support.lid_pressure(p_cavity_2, lid_2, N, pad(v))) * r * ds(SUPPORT)
+            + cavity.follower_pressure(p_press * press_profile, Fw, N, pad(v)) * r * ds(PRESS))
 
 
-F = kinematics.deformation_gradient(u)
-psi_hgo = hgo.isochoric_energy(F, c10, k1, k2, fibre_1, fibre_2)
+F = deformation_gradient(u)
+psi_hgo = hgo_isochoric_energy(F)
 psi_neo_hookean = neo_hookean.isochoric_energy(F, c10)
 psi_volume = volumetric.energy(det(F), kappa)
 psi_saint_venant_kirchhoff = saint_venant_kirchhoff.energy(F, youngs_modulus, poisson_ratio)
@@ -131,18 +168,21 @@ psi_cnh_volume = compressible_neo_hookean.volumetric_energy(det(F), youngs_modul
 R = balance(u)
 J = derivative(R, u, du)
 
-# Enclosed cavity volumes (quarter model, no symmetry factor) about x0.
-x0 = Constant(tetrahedron, shape=(3,))
-volume_1 = (cavity.volume(u, F, N, x0) * ds(CAVITY_1_WALL)
-            + support.lid_volume(lid_1, u, N) * ds(SUPPORT))
-volume_2 = (cavity.volume(u, F, N, x0) * ds(CAVITY_2_WALL)
-            + support.lid_volume(lid_2, u, N) * ds(SUPPORT))
+# Enclosed cavity volumes (the meshed part, no symmetry factor) about x0,
+# a point on the axis of a section.
+x0 = Constant(cell, shape=(3 if dimension == "3d" else 2,))  # noqa: F821
+x = section.vector(SpatialCoordinate(cell) + u, dimension)  # noqa: F821
+d_space = section.space_dimension(dimension)  # noqa: F821
+volume_1 = (cavity.volume(x, F, N, pad(x0), d_space) * r * ds(CAVITY_1_WALL)
+            + support.lid_volume(lid_1, pad(u), N, d_space) * r * ds(SUPPORT))
+volume_2 = (cavity.volume(x, F, N, pad(x0), d_space) * r * ds(CAVITY_2_WALL)
+            + support.lid_volume(lid_2, pad(u), N, d_space) * r * ds(SUPPORT))
 
 # The border of the closed-cavity system: dR/dp_c and dV_c/du.
-cavity_load_1 = (cavity.follower_pressure(1.0, F, N, v) * ds(CAVITY_1_WALL)
-                 + support.lid_pressure(1.0, lid_1, N, v) * ds(SUPPORT))
-cavity_load_2 = (cavity.follower_pressure(1.0, F, N, v) * ds(CAVITY_2_WALL)
-                 + support.lid_pressure(1.0, lid_2, N, v) * ds(SUPPORT))
+cavity_load_1 = (cavity.follower_pressure(1.0, F, N, pad(v)) * r * ds(CAVITY_1_WALL)
+                 + support.lid_pressure(1.0, lid_1, N, pad(v)) * r * ds(SUPPORT))
+cavity_load_2 = (cavity.follower_pressure(1.0, F, N, pad(v)) * r * ds(CAVITY_2_WALL)
+                 + support.lid_pressure(1.0, lid_2, N, pad(v)) * r * ds(SUPPORT))
 dvolume_1 = derivative(volume_1, u, v)
 dvolume_2 = derivative(volume_2, u, v)
 
@@ -162,56 +202,69 @@ von_mises = sqrt(1.5 * inner(s, s))
 # Dynamics (generalised alpha, forms/dynamics.py): the balance at
 # u_{n+1-alpha_f} plus inertia and mass-proportional damping,
 # rho (a_{n+1-alpha_m} + damping v_{n+1-alpha_f}) . v. The mass is
-# integrated exactly (degree 2 degree) whatever the cell quadrature.
+# integrated exactly (degree 2 degree, with r's one more) whatever the
+# cell quadrature.
 u_old = Coefficient(element)        # u_n [mm]
 v_old = Coefficient(element)        # v_n [mm/ms]
 a_old = Coefficient(element)        # a_n [mm/ms^2]
 density = Coefficient(cell_scalar)  # [g/mm^3]
-dt = Constant(tetrahedron)          # [ms]
-alpha_m = Constant(tetrahedron)
-alpha_f = Constant(tetrahedron)
-beta = Constant(tetrahedron)
-gamma = Constant(tetrahedron)
-damping = Constant(tetrahedron)     # mass-proportional [1/ms]
+dt = Constant(cell)          # [ms]
+alpha_m = Constant(cell)
+alpha_f = Constant(cell)
+beta = Constant(cell)
+gamma = Constant(cell)
+damping = Constant(cell)     # mass-proportional [1/ms]
 # The support on the cut (support.py), zero while clamped
-support_stiffness = Constant(tetrahedron)  # k [MPa/mm]
-support_damping = Constant(tetrahedron)    # c [MPa ms/mm]
+support_stiffness = Constant(cell)  # k [MPa/mm]
+support_damping = Constant(cell)    # c [MPa ms/mm]
 u_support = Coefficient(element)           # u_0 [mm]
-dx_mass = Measure("dx", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
+dx_mass = Measure("dx", metadata={"quadrature_degree": 2 * degree + weighted})  # noqa: F821
 
 a_new = dynamics.acceleration(u, u_old, v_old, a_old, dt, beta)
 v_new = dynamics.velocity(a_new, v_old, a_old, dt, gamma)
 u_mid = dynamics.level(u, u_old, alpha_f)
 R_dynamic = (density * inner(dynamics.level(a_new, a_old, alpha_m)
-                             + damping * dynamics.level(v_new, v_old, alpha_f), v) * dx_mass
+                             + damping * dynamics.level(v_new, v_old, alpha_f), v) * r
+             * dx_mass
              + balance(u_mid)
              + support.spring_dashpot(support_stiffness, support_damping, u_mid, u_support,
-                                      dynamics.level(v_new, v_old, alpha_f), v) * ds(SUPPORT))
+                                      dynamics.level(v_new, v_old, alpha_f), v) * r * ds(SUPPORT))
 J_dynamic = derivative(R_dynamic, u, du)
-F_mid = kinematics.deformation_gradient(u_mid)
-cavity_load_dynamic_1 = (cavity.follower_pressure(1.0, F_mid, N, v) * ds(CAVITY_1_WALL)
-                         + support.lid_pressure(1.0, lid_1, N, v) * ds(SUPPORT))
-cavity_load_dynamic_2 = (cavity.follower_pressure(1.0, F_mid, N, v) * ds(CAVITY_2_WALL)
-                         + support.lid_pressure(1.0, lid_2, N, v) * ds(SUPPORT))
+F_mid = deformation_gradient(u_mid)
+cavity_load_dynamic_1 = (cavity.follower_pressure(1.0, F_mid, N, pad(v)) * r
+                         * ds(CAVITY_1_WALL)
+                         + support.lid_pressure(1.0, lid_1, N, pad(v)) * r * ds(SUPPORT))
+cavity_load_dynamic_2 = (cavity.follower_pressure(1.0, F_mid, N, pad(v)) * r
+                         * ds(CAVITY_2_WALL)
+                         + support.lid_pressure(1.0, lid_2, N, pad(v)) * r * ds(SUPPORT))
 
 # Energies (for checks): stored in the solid at u, kinetic at v_n.
-strain_energy = (psi_hgo * dx(HGO) + psi_neo_hookean * dx(NEO_HOOKEAN)
-                 + psi_volume * (dx_volume(HGO) + dx_volume(NEO_HOOKEAN))
-                 + psi_saint_venant_kirchhoff * dx(SAINT_VENANT_KIRCHHOFF)
-                 + psi_cnh_shear * dx(COMPRESSIBLE_NEO_HOOKEAN)
-                 + psi_cnh_volume * dx_volume(COMPRESSIBLE_NEO_HOOKEAN))
-kinetic_energy = 0.5 * density * inner(v_old, v_old) * dx_mass
+strain_energy = (psi_hgo * r * dx(HGO) + psi_neo_hookean * r * dx(NEO_HOOKEAN)
+                 + psi_volume * r * (dx_volume(HGO) + dx_volume(NEO_HOOKEAN))
+                 + psi_saint_venant_kirchhoff * r * dx(SAINT_VENANT_KIRCHHOFF)
+                 + psi_cnh_shear * r * dx(COMPRESSIBLE_NEO_HOOKEAN)
+                 + psi_cnh_volume * r * dx_volume(COMPRESSIBLE_NEO_HOOKEAN))
+kinetic_energy = 0.5 * density * inner(v_old, v_old) * r * dx_mass
 
 # det F at the cell quadrature points and the vertices, to find inverted
 # elements (det F <= 0, where ln J is undefined) and say where they are.
-jacobian_points = ([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-                   + basix.make_quadrature(basix.CellType.tetrahedron,
-                                           quadrature_degree)[0].tolist())  # noqa: F821
+# Axisymmetric, the hoop stretch is 0/0 at a vertex on the axis: there the
+# corners are taken 1 % of the way in towards the centroid.
+if dimension == "3d":  # noqa: F821
+    corners, reference_cell = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0],
+                               [0.0, 0.0, 1.0]], basix.CellType.tetrahedron
+else:
+    corners, reference_cell = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], basix.CellType.triangle
+    if dimension == "axisymmetric":  # noqa: F821
+        corners = [[0.99 * a + 0.01 / 3, 0.99 * b + 0.01 / 3] for a, b in corners]
+jacobian_points = corners + basix.make_quadrature(reference_cell,
+                                                  quadrature_degree)[0].tolist()  # noqa: F821
 det_F = det(F)
+centroid = [1.0 / (len(corners[0]) + 1)] * len(corners[0])
 
-support_area = inner(N, N) * ds(SUPPORT)  # the cut's area (meshed part) [mm^2]
+support_area = inner(N, N) * r * ds(SUPPORT)  # the cut's area (meshed part) [mm^2]
 
 forms = [R, J, volume_1, volume_2, cavity_load_1, cavity_load_2, dvolume_1, dvolume_2,
          R_dynamic, J_dynamic, cavity_load_dynamic_1, cavity_load_dynamic_2,
          strain_energy, kinetic_energy, support_area]
-expressions = [(von_mises, [[0.25, 0.25, 0.25]]), (det_F, jacobian_points)]
+expressions = [(von_mises, [centroid]), (det_F, jacobian_points)]

@@ -44,9 +44,9 @@ def spring_dashpot(stiffness, damping, u, u_0, velocity, v):
     return inner(stiffness * (u - u_0) + damping * velocity, v)
 
 
-def lid_volume(lid, u, N):
-    """Integrand of the lid's share of the cavity volume, 1/3 lid u . N."""
-    return lid * dot(u, N) / 3.0
+def lid_volume(lid, u, N, space_dimension=3):
+    """Integrand of the lid's share of the cavity volume, 1/3 lid u . N (1/2 in 2D)."""
+    return lid * dot(u, N) / float(space_dimension)
 
 
 def lid_pressure(p, lid, N, v):

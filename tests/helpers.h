@@ -1,6 +1,7 @@
 // Shared by the scene test files: running scenes into test run folders.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -46,6 +47,53 @@ inline double sphere_pressure(double la, double A, double B, double mu)
 {
   const double a = la * A, b = std::cbrt(a * a * a + B * B * B - A * A * A), lb = b / B;
   return mu * (0.5 / std::pow(lb, 4) + 2 / lb - 0.5 / std::pow(la, 4) - 2 / la);
+}
+
+/// Where the HGO law's fibres lie in a homogeneous uniaxial test.
+enum class Fibres
+{
+  axial,     ///< one family along the load
+  transverse ///< one family along each lateral axis
+};
+
+/// Cauchy stresses (axial, lateral) of the HGO law of forms/hgo.py under
+/// F = diag(l1, l2, l2):
+/// sigma = kappa ln J / J I + dev(tau_bar) / J,
+/// tau_bar = 2 C10 b_bar + 2 psi4' (F_bar a) (x) (F_bar a) per family.
+inline std::array<double, 2> hgo_uniaxial_stress(double l1, double l2, double c10, double k1,
+                                                 double k2, double kappa,
+                                                 Fibres fibres = Fibres::axial)
+{
+  const double J = l1 * l2 * l2;
+  const double b1 = std::pow(J, -2.0 / 3) * l1 * l1, b2 = std::pow(J, -2.0 / 3) * l2 * l2;
+  // psi4' (Ibar4 - 1 = E) times Ibar4, zero in compression
+  auto fibre = [&](double b)
+  { return b > 1 ? k1 * (b - 1) * std::exp(k2 * (b - 1) * (b - 1)) * b : 0.0; };
+  const bool axial = fibres == Fibres::axial;
+  const double t1 = 2 * c10 * b1 + (axial ? 2 * fibre(b1) : 0.0);
+  const double t2 = 2 * c10 * b2 + (axial ? 0.0 : 2 * fibre(b2));
+  const double mean = (t1 + 2 * t2) / 3;
+  const double vol = kappa * std::log(J) / J;
+  return {vol + (t1 - mean) / J, vol + (t2 - mean) / J};
+}
+
+/// Stretches (l1, l2) under a uniaxial Cauchy stress T: sigma_22 = 0 is
+/// solved for l2 inside a bisection on l1.
+inline std::array<double, 2> hgo_uniaxial_stretches(double T, double c10, double k1, double k2,
+                                                    double kappa,
+                                                    Fibres fibres = Fibres::axial)
+{
+  auto lateral = [&](double l1)
+  {
+    return bisect([&](double l2)
+                  { return hgo_uniaxial_stress(l1, l2, c10, k1, k2, kappa, fibres)[1]; },
+                  0.5, 1.5);
+  };
+  const double l1 = bisect(
+      [&](double l1)
+      { return hgo_uniaxial_stress(l1, lateral(l1), c10, k1, k2, kappa, fibres)[0] - T; },
+      0.7, 1.5);
+  return {l1, lateral(l1)};
 }
 
 } // namespace nct::test

@@ -21,41 +21,6 @@ namespace
 
 using namespace nct::test;
 
-/// Cauchy stresses (axial, lateral) of the HGO law of forms/hgo.py under
-/// F = diag(l1, l2, l2), fibres along the axis:
-/// sigma = kappa ln J / J I + dev(tau_bar) / J,
-/// tau_bar = 2 C10 b_bar + 2 psi4' (F_bar a) (x) (F_bar a).
-std::array<double, 2> hgo_uniaxial_stress(double l1, double l2, double c10, double k1,
-                                          double k2, double kappa)
-{
-  const double J = l1 * l2 * l2;
-  const double b1 = std::pow(J, -2.0 / 3) * l1 * l1, b2 = std::pow(J, -2.0 / 3) * l2 * l2;
-  const double E4 = b1 - 1; // Ibar4 - 1
-  const double psi4 = E4 > 0 ? k1 * E4 * std::exp(k2 * E4 * E4) : 0.0;
-  const double t1 = 2 * c10 * b1 + 2 * psi4 * b1, t2 = 2 * c10 * b2;
-  const double mean = (t1 + 2 * t2) / 3;
-  const double vol = kappa * std::log(J) / J;
-  return {vol + (t1 - mean) / J, vol + (t2 - mean) / J};
-}
-
-/// Stretches (l1, l2) under a uniaxial Cauchy stress T: sigma_22 = 0 is
-/// solved for l2 inside a bisection on l1.
-std::array<double, 2> hgo_uniaxial_stretches(double T, double c10, double k1, double k2,
-                                             double kappa)
-{
-  auto lateral = [&](double l1)
-  {
-    return bisect([&](double l2)
-                  { return hgo_uniaxial_stress(l1, l2, c10, k1, k2, kappa)[1]; },
-                  0.5, 1.5);
-  };
-  double l1 = bisect(
-      [&](double l1)
-      { return hgo_uniaxial_stress(l1, lateral(l1), c10, k1, k2, kappa)[0] - T; },
-      0.7, 1.5);
-  return {l1, lateral(l1)};
-}
-
 } // namespace
 
 // Tension with the fibres along the load: the homogeneous FE solution is

@@ -46,15 +46,16 @@ void group_elements(int dim, int group, int type,
   }
 }
 
-/// Vertices around which the cells are not connected through faces that
-/// contain the vertex: two bodies touching along an edge or at a point.
-std::vector<bool> non_manifold_vertices(const std::vector<std::int64_t>& cells,
+/// Vertices around which the cells (`nv` vertices each) are not connected
+/// through facets that contain the vertex: two bodies touching along an
+/// edge or at a point.
+std::vector<bool> non_manifold_vertices(const std::vector<std::int64_t>& cells, int nv,
                                         std::size_t num_vertices)
 {
   std::vector<std::vector<std::size_t>> vertex_cells(num_vertices);
-  for (std::size_t c = 0; c < cells.size() / 4; ++c)
-    for (int i = 0; i < 4; ++i)
-      vertex_cells[cells[4 * c + i]].push_back(c);
+  for (std::size_t c = 0; c < cells.size() / nv; ++c)
+    for (int i = 0; i < nv; ++i)
+      vertex_cells[cells[nv * c + i]].push_back(c);
   std::vector<bool> flagged(num_vertices, false);
   for (std::size_t v = 0; v < num_vertices; ++v)
   {
@@ -68,16 +69,20 @@ std::vector<bool> non_manifold_vertices(const std::vector<std::int64_t>& cells,
         i = up[i] = up[up[i]];
       return i;
     };
-    std::map<std::array<std::int64_t, 2>, std::size_t> faces; // the other two vertices
+    // A facet through v, by its other vertices (nv - 2 of them; -1 pads).
+    std::map<std::array<std::int64_t, 2>, std::size_t> faces;
     for (std::size_t k = 0; k < vc.size(); ++k)
     {
       std::array<std::int64_t, 3> others;
-      for (int i = 0, j = 0; i < 4; ++i)
-        if (cells[4 * vc[k] + i] != static_cast<std::int64_t>(v))
-          others[j++] = cells[4 * vc[k] + i];
-      for (int skip = 0; skip < 3; ++skip)
+      for (int i = 0, j = 0; i < nv; ++i)
+        if (cells[nv * vc[k] + i] != static_cast<std::int64_t>(v))
+          others[j++] = cells[nv * vc[k] + i];
+      for (int skip = 0; skip < nv - 1; ++skip)
       {
-        std::array<std::int64_t, 2> f{others[(skip + 1) % 3], others[(skip + 2) % 3]};
+        std::array<std::int64_t, 2> f{-1, -1};
+        for (int i = 0, j = 0; i < nv - 1; ++i)
+          if (i != skip)
+            f[j++] = others[i];
         std::sort(f.begin(), f.end());
         if (auto [it, fresh] = faces.emplace(f, k); !fresh)
           up[find(k)] = find(it->second);
@@ -91,15 +96,50 @@ std::vector<bool> non_manifold_vertices(const std::vector<std::int64_t>& cells,
   return flagged;
 }
 
-/// The face of tetrahedron `v` (4 node indices) opposite its node k, sorted.
-std::array<std::int64_t, 3> face(const std::int64_t* v, int k)
+/// Sort a facet's first n (2 or 3) nodes; the rest stay -1.
+void sort_facet(std::array<std::int64_t, 3>& f, int n)
 {
-  std::array<std::int64_t, 3> f;
-  for (int i = 0, j = 0; i < 4; ++i)
+  if (n == 3)
+    std::sort(f.begin(), f.end());
+  else if (f[0] > f[1])
+    std::swap(f[0], f[1]);
+}
+
+/// The facet of a cell `v` (nv node indices) opposite its node k, sorted
+/// (-1 pads a triangle's edge).
+std::array<std::int64_t, 3> face(const std::int64_t* v, int nv, int k)
+{
+  std::array<std::int64_t, 3> f{-1, -1, -1};
+  for (int i = 0, j = 0; i < nv; ++i)
     if (i != k)
       f[j++] = v[i];
-  std::sort(f.begin(), f.end());
+  sort_facet(f, nv - 1);
   return f;
+}
+
+/// Model's facet f as face() gives it: its nodes sorted, -1 padded.
+std::array<std::int64_t, 3> facet_key(const Model& model, std::size_t f)
+{
+  const int nf = model.groups.dimension;
+  std::array<std::int64_t, 3> key{-1, -1, -1};
+  std::copy_n(model.facets.begin() + nf * f, nf, key.begin());
+  sort_facet(key, nf);
+  return key;
+}
+
+/// The normal (not unit) of a facet with the geometry nodes `nodes`: a
+/// triangle's (fdim 2), a segment's in the plane z = 0 (fdim 1).
+std::array<double, 3> facet_normal(std::span<const double> x, const std::int32_t* nodes,
+                                   int fdim)
+{
+  std::array<double, 3> a, b{0, 0, 1};
+  for (int j = 0; j < 3; ++j)
+  {
+    a[j] = x[3 * nodes[1] + j] - x[3 * nodes[0] + j];
+    if (fdim == 2)
+      b[j] = x[3 * nodes[2] + j] - x[3 * nodes[0] + j];
+  }
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
 } // namespace
@@ -120,6 +160,15 @@ Groups groups_of_current_model(MPI_Comm comm)
   {
     gmsh::vectorpair groups;
     gmsh::model::getPhysicalGroups(groups);
+    const int cell_dim = gmsh::model::getDimension() == 2 ? 2 : 3;
+    s << "dimension " << cell_dim << '\n';
+    std::array<double, 6> b;
+    gmsh::model::getBoundingBox(-1, -1, b[0], b[1], b[2], b[3], b[4], b[5]);
+    s.precision(17);
+    s << "bounds";
+    for (double v : b)
+      s << ' ' << v;
+    s << '\n';
     for (auto [dim, tag] : groups)
     {
       std::string name;
@@ -131,19 +180,19 @@ Groups groups_of_current_model(MPI_Comm comm)
     // The volume groups on either side of each surface group's entities.
     for (auto [dim, tag] : groups)
     {
-      if (dim != 2)
+      if (dim != cell_dim - 1)
         continue;
       std::set<int> volumes;
       std::vector<int> entities;
-      gmsh::model::getEntitiesForPhysicalGroup(2, tag, entities);
+      gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
       for (int e : entities)
       {
         std::vector<int> up, down;
-        gmsh::model::getAdjacencies(2, e, up, down);
+        gmsh::model::getAdjacencies(dim, e, up, down);
         for (int v : up)
         {
           std::vector<int> tags;
-          gmsh::model::getPhysicalGroupsForEntity(3, v, tags);
+          gmsh::model::getPhysicalGroupsForEntity(cell_dim, v, tags);
           volumes.insert(tags.begin(), tags.end());
         }
       }
@@ -165,15 +214,26 @@ Groups groups_of_current_model(MPI_Comm comm)
       sides.push_back({tag, other});
       continue;
     }
+    if (first == "dimension")
+    {
+      in >> g.dimension;
+      continue;
+    }
+    if (first == "bounds")
+    {
+      for (double& v : g.bounds)
+        in >> v;
+      continue;
+    }
     const int dim = std::stoi(first);
     std::string name;
     in >> tag >> name;
-    if (dim == 3)
+    if (dim == g.dimension)
     {
       g.volumes[name] = tag;
       volume_names[tag] = name;
     }
-    else if (dim == 2)
+    else if (dim == g.dimension - 1)
       g.surfaces[name] = tag;
   }
   for (auto [surface, volume] : sides)
@@ -243,8 +303,8 @@ Groups open(MPI_Comm comm, const std::filesystem::path& file,
   return groups_of_current_model(comm);
 }
 
-/// The current gmsh model's tetrahedra, facets and nodes into m (its
-/// groups set); throws on a surface node that no tetrahedron uses.
+/// The current gmsh model's cells, facets and nodes into m (its groups
+/// set); throws on a facet node that no cell uses.
 static void read_mesh(Model& m);
 
 Model extract(MPI_Comm comm, double size_max)
@@ -255,24 +315,27 @@ Model extract(MPI_Comm comm, double size_max)
   if (rank(comm) == 0)
   {
     // A geometry without a mesh (a .geo) is meshed here.
+    const int dim = m.groups.dimension;
     std::vector<int> types;
-    gmsh::model::mesh::getElementTypes(types, 3);
+    gmsh::model::mesh::getElementTypes(types, dim);
     if (types.empty())
     {
       try
       {
         if (size_max > 0)
           gmsh::option::setNumber("Mesh.CharacteristicLengthMax", size_max);
-        gmsh::model::mesh::generate(3);
+        gmsh::model::mesh::generate(dim);
       }
       catch (const std::string& e) // gmsh 4.8 throws strings
       {
         error = "gmsh could not mesh the geometry: " + e;
       }
-      gmsh::model::mesh::getElementTypes(types, 3);
+      gmsh::model::mesh::getElementTypes(types, dim);
     }
-    if (error.empty() && types != std::vector<int>{4})
+    if (error.empty() && dim == 3 && types != std::vector<int>{4})
       error = "the mesh must consist of linear tetrahedra (gmsh type 4)";
+    if (error.empty() && dim == 2 && types != std::vector<int>{2})
+      error = "a 2D mesh must consist of linear triangles (gmsh type 2)";
   }
   if (error = broadcast(comm, error); !error.empty())
     throw std::runtime_error(error);
@@ -300,27 +363,31 @@ static void read_mesh(Model& m)
     auto [it, fresh] = index.emplace(tag, static_cast<std::int64_t>(index.size()));
     return it->second;
   };
+  // gmsh element types: tetrahedron 4, triangle 2, segment 1.
+  const int dim = m.groups.dimension;
+  const int cell_type = dim == 3 ? 4 : 2, facet_type = dim == 3 ? 2 : 1;
   for (auto [name, group] : m.groups.volumes)
   {
     std::vector<std::size_t> nodes;
-    group_elements(3, group, 4, nodes);
+    group_elements(dim, group, cell_type, nodes);
     for (std::size_t n : nodes)
       m.cells.push_back(node_index(n));
-    m.cell_groups.insert(m.cell_groups.end(), nodes.size() / 4, group);
+    m.cell_groups.insert(m.cell_groups.end(), nodes.size() / (dim + 1), group);
   }
   for (auto [name, group] : m.groups.surfaces)
   {
     std::vector<std::size_t> nodes;
-    group_elements(2, group, 2, nodes);
+    group_elements(dim - 1, group, facet_type, nodes);
     for (std::size_t n : nodes)
     {
       auto it = index.find(n);
       if (it == index.end())
-        throw std::runtime_error("surface group '" + name
-                                 + "' has a node that no tetrahedron uses");
+        throw std::runtime_error(std::string(dim == 3 ? "surface" : "curve") + " group '"
+                                 + name + "' has a node that no "
+                                 + (dim == 3 ? "tetrahedron" : "triangle") + " uses");
       m.facets.push_back(it->second);
     }
-    m.facet_groups.insert(m.facet_groups.end(), nodes.size() / 3, group);
+    m.facet_groups.insert(m.facet_groups.end(), nodes.size() / dim, group);
   }
 
   std::vector<std::size_t> tags;
@@ -340,6 +407,7 @@ Model keep(const Model& model, const std::vector<std::int32_t>& volume_groups)
     it = std::find(volume_groups.begin(), volume_groups.end(), it->second) == volume_groups.end()
              ? m.groups.volumes.erase(it)
              : std::next(it);
+  const int nv = model.groups.dimension + 1, nf = nv - 1;
   std::vector<std::int64_t> index(model.x.size() / 3, -1);
   std::set<std::array<std::int64_t, 3>> faces;
   for (std::size_t c = 0; c < model.cell_groups.size(); ++c)
@@ -347,10 +415,10 @@ Model keep(const Model& model, const std::vector<std::int32_t>& volume_groups)
     if (std::find(volume_groups.begin(), volume_groups.end(), model.cell_groups[c])
         == volume_groups.end())
       continue;
-    const std::int64_t* v = &model.cells[4 * c];
-    for (int k = 0; k < 4; ++k)
+    const std::int64_t* v = &model.cells[nv * c];
+    for (int k = 0; k < nv; ++k)
     {
-      faces.insert(face(v, k));
+      faces.insert(face(v, nv, k));
       if (index[v[k]] < 0)
       {
         index[v[k]] = static_cast<std::int64_t>(m.x.size() / 3);
@@ -362,13 +430,10 @@ Model keep(const Model& model, const std::vector<std::int32_t>& volume_groups)
   }
   for (std::size_t f = 0; f < model.facet_groups.size(); ++f)
   {
-    std::array<std::int64_t, 3> key{model.facets[3 * f], model.facets[3 * f + 1],
-                                    model.facets[3 * f + 2]};
-    std::sort(key.begin(), key.end());
-    if (!faces.count(key))
+    if (!faces.count(facet_key(model, f)))
       continue;
-    for (int i = 0; i < 3; ++i)
-      m.facets.push_back(index[model.facets[3 * f + i]]);
+    for (int i = 0; i < nf; ++i)
+      m.facets.push_back(index[model.facets[nf * f + i]]);
     m.facet_groups.push_back(model.facet_groups[f]);
   }
   return m;
@@ -382,23 +447,19 @@ std::int32_t add_interface(Model& model, const std::vector<std::int32_t>& first,
     tag = std::max(tag, t + 1);
   model.groups.surfaces[name] = tag;
   // Each face: which sides it has (bit 0: a cell of `first`, bit 1: another).
+  const int nv = model.groups.dimension + 1;
   std::map<std::array<std::int64_t, 3>, int> faces;
   for (std::size_t c = 0; c < model.cell_groups.size(); ++c)
   {
     const bool in_first = std::find(first.begin(), first.end(), model.cell_groups[c])
                           != first.end();
-    const std::int64_t* v = &model.cells[4 * c];
-    for (int k = 0; k < 4; ++k)
-      faces[face(v, k)] |= in_first ? 1 : 2;
+    const std::int64_t* v = &model.cells[nv * c];
+    for (int k = 0; k < nv; ++k)
+      faces[face(v, nv, k)] |= in_first ? 1 : 2;
   }
   std::map<std::array<std::int64_t, 3>, std::int32_t> tagged;
   for (std::size_t f = 0; f < model.facet_groups.size(); ++f)
-  {
-    std::array<std::int64_t, 3> key{model.facets[3 * f], model.facets[3 * f + 1],
-                                    model.facets[3 * f + 2]};
-    std::sort(key.begin(), key.end());
-    tagged[key] = model.facet_groups[f];
-  }
+    tagged[facet_key(model, f)] = model.facet_groups[f];
   std::size_t count = 0;
   for (auto& [f, sides] : faces)
   {
@@ -414,7 +475,7 @@ std::int32_t add_interface(Model& model, const std::vector<std::int32_t>& first,
                                   "between the volume groups; name the interface itself "
                                   "or leave its faces out of other groups");
     }
-    model.facets.insert(model.facets.end(), f.begin(), f.end());
+    model.facets.insert(model.facets.end(), f.begin(), f.begin() + (nv - 1));
     model.facet_groups.push_back(tag);
     ++count;
   }
@@ -429,20 +490,14 @@ int normal_axis(const dolfinx::mesh::Mesh& mesh,
                 const dolfinx::mesh::MeshTags<std::int32_t>& facets, std::int32_t group)
 {
   std::vector<std::int32_t> list = facets.find(group);
-  auto geo = dolfinx::mesh::entities_to_geometry(mesh, 2, list, false);
+  const int fdim = mesh.topology().dim() - 1;
+  auto geo = dolfinx::mesh::entities_to_geometry(mesh, fdim, list, false);
   const auto& x = mesh.geometry().x();
   int axis = -1;
   bool ok = true;
-  for (std::size_t f = 0; f < geo.size() / 3; ++f)
+  for (std::size_t f = 0; f < list.size(); ++f)
   {
-    std::array<double, 3> a, b, n;
-    for (int j = 0; j < 3; ++j)
-    {
-      a[j] = x[3 * geo[3 * f + 1] + j] - x[3 * geo[3 * f] + j];
-      b[j] = x[3 * geo[3 * f + 2] + j] - x[3 * geo[3 * f] + j];
-    }
-    n = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-         a[0] * b[1] - a[1] * b[0]};
+    const std::array<double, 3> n = facet_normal(x, &geo[(fdim + 1) * f], fdim);
     double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     int i = static_cast<int>(std::max_element(n.begin(), n.end(),
                                               [](double p, double q)
@@ -465,7 +520,8 @@ std::pair<double, double> coordinate_range(const dolfinx::mesh::Mesh& mesh,
                                            std::int32_t group, int axis)
 {
   const std::vector<std::int32_t> list = facets.find(group);
-  const auto nodes = dolfinx::mesh::entities_to_geometry(mesh, 2, list, false);
+  const auto nodes
+      = dolfinx::mesh::entities_to_geometry(mesh, mesh.topology().dim() - 1, list, false);
   const auto& x = mesh.geometry().x();
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (auto n : nodes)
@@ -483,33 +539,31 @@ std::array<double, 3> outward_normal(const dolfinx::mesh::Mesh& mesh,
                                      const std::vector<std::int32_t>& groups)
 {
   auto& topology = const_cast<dolfinx::mesh::Mesh&>(mesh).topology_mutable();
-  topology.create_connectivity(2, 3);
-  const auto f2c = topology.connectivity(2, 3);
+  const int tdim = topology.dim(), fdim = tdim - 1;
+  topology.create_connectivity(fdim, tdim);
+  const auto f2c = topology.connectivity(fdim, tdim);
   const auto& x = mesh.geometry().x();
   const auto& cell_nodes = mesh.geometry().dofmap();
-  const std::int32_t owned = topology.index_map(2)->size_local();
+  const std::int32_t owned = topology.index_map(fdim)->size_local();
   std::array<double, 3> sum{0, 0, 0};
   for (auto g : groups)
   {
     std::vector<std::int32_t> list = facets.find(g);
     list.erase(std::remove_if(list.begin(), list.end(), [&](auto f) { return f >= owned; }),
                list.end());
-    auto geo = dolfinx::mesh::entities_to_geometry(mesh, 2, list, false);
+    auto geo = dolfinx::mesh::entities_to_geometry(mesh, fdim, list, false);
     for (std::size_t k = 0; k < list.size(); ++k)
     {
-      std::array<double, 3> a, b, n, c{0, 0, 0}, m{0, 0, 0};
+      const std::int32_t* nodes = &geo[tdim * k];
+      const std::array<double, 3> n = facet_normal(x, nodes, fdim);
+      std::array<double, 3> c{0, 0, 0}, m{0, 0, 0};
       for (int j = 0; j < 3; ++j)
-      {
-        a[j] = x[3 * geo[3 * k + 1] + j] - x[3 * geo[3 * k] + j];
-        b[j] = x[3 * geo[3 * k + 2] + j] - x[3 * geo[3 * k] + j];
-        for (int i = 0; i < 3; ++i)
-          m[j] += x[3 * geo[3 * k + i] + j] / 3;
-      }
-      n = {(a[1] * b[2] - a[2] * b[1]) / 2, (a[2] * b[0] - a[0] * b[2]) / 2,
-           (a[0] * b[1] - a[1] * b[0]) / 2};
-      for (auto node : cell_nodes.links(f2c->links(list[k])[0]))
+        for (int i = 0; i < tdim; ++i)
+          m[j] += x[3 * nodes[i] + j] / tdim;
+      auto cell = cell_nodes.links(f2c->links(list[k])[0]);
+      for (auto node : cell)
         for (int j = 0; j < 3; ++j)
-          c[j] += x[3 * node + j] / 4;
+          c[j] += x[3 * node + j] / cell.size();
       const double side = (m[0] - c[0]) * n[0] + (m[1] - c[1]) * n[1] + (m[2] - c[2]) * n[2];
       for (int j = 0; j < 3; ++j)
         sum[j] += side < 0 ? -n[j] : n[j];
@@ -526,12 +580,14 @@ std::array<double, 3> outward_normal(const dolfinx::mesh::Mesh& mesh,
 Tagged distribute(MPI_Comm comm, const Model& model)
 {
   using namespace dolfinx;
-  const std::size_t num_cells = model.cells.size() / 4;
+  const int dim = model.groups.dimension, nv = dim + 1;
+  const std::size_t num_cells = model.cells.size() / nv;
   std::vector<std::int32_t> offsets(num_cells + 1);
   for (std::size_t c = 0; c <= num_cells; ++c)
-    offsets[c] = static_cast<std::int32_t>(4 * c);
+    offsets[c] = static_cast<std::int32_t>(nv * c);
   graph::AdjacencyList<std::int64_t> cells(model.cells, offsets);
-  fem::CoordinateElement element(mesh::CellType::tetrahedron, 1);
+  fem::CoordinateElement element(
+      dim == 3 ? mesh::CellType::tetrahedron : mesh::CellType::triangle, 1);
 
   // dolfinx 0.5 finds the vertices shared between processes through the
   // ghost cells it sends across shared faces. Where two bodies touch only
@@ -539,7 +595,8 @@ Tagged distribute(MPI_Comm comm, const Model& model)
   // the vertex would be duplicated and the bodies come apart. So every
   // cell at such a vertex also goes, as a ghost, to each process that owns
   // another cell there; ghosts are dropped once the sharing is known.
-  const std::vector<bool> junction = non_manifold_vertices(model.cells, model.x.size() / 3);
+  const std::vector<bool> junction
+      = non_manifold_vertices(model.cells, nv, model.x.size() / 3);
   auto partitioner = [junction, default_partitioner = mesh::create_cell_partitioner()](
                          MPI_Comm comm, int nparts, int tdim,
                          const graph::AdjacencyList<std::int64_t>& cells,
@@ -570,10 +627,15 @@ Tagged distribute(MPI_Comm comm, const Model& model)
     return graph::AdjacencyList<std::int32_t>(std::move(data), std::move(offsets));
   };
 
+  // A section's nodes lie in the plane z = 0: its mesh has 2 coordinates.
+  std::vector<double> x;
+  for (std::size_t i = 0; i < model.x.size(); ++i)
+    if (dim == 3 || i % 3 < 2)
+      x.push_back(model.x[i]);
   Tagged t;
   t.groups = model.groups;
   t.mesh = std::make_shared<mesh::Mesh>(mesh::create_mesh(
-      comm, cells, element, model.x, {model.x.size() / 3, 3},
+      comm, cells, element, x, {model.x.size() / 3, static_cast<std::size_t>(dim)},
       mesh::GhostMode::none, partitioner));
 
   auto tags = [&](int dim, const std::vector<std::int64_t>& entities,
@@ -582,7 +644,7 @@ Tagged distribute(MPI_Comm comm, const Model& model)
     auto [local, local_values] = io::xdmf_utils::distribute_entity_data(
         *t.mesh, dim, entities, values);
     t.mesh->topology_mutable().create_connectivity(dim, 0);
-    t.mesh->topology_mutable().create_connectivity(dim, 3);
+    t.mesh->topology_mutable().create_connectivity(dim, t.mesh->topology().dim());
     std::vector<std::int32_t> off(local_values.size() + 1);
     for (std::size_t i = 0; i < off.size(); ++i)
       off[i] = static_cast<std::int32_t>(nv * i);
@@ -590,8 +652,8 @@ Tagged distribute(MPI_Comm comm, const Model& model)
     return std::make_shared<mesh::MeshTags<std::int32_t>>(mesh::create_meshtags(
         t.mesh, dim, adj, std::span<const std::int32_t>(local_values)));
   };
-  t.cells = tags(3, model.cells, model.cell_groups, 4);
-  t.facets = tags(2, model.facets, model.facet_groups, 3);
+  t.cells = tags(dim, model.cells, model.cell_groups, nv);
+  t.facets = tags(dim - 1, model.facets, model.facet_groups, dim);
   return t;
 }
 
@@ -635,7 +697,7 @@ Probes::Probes(const dolfinx::mesh::Mesh& mesh, std::vector<std::array<double, 3
 {
   for (auto& p : _points)
     _x.insert(_x.end(), p.begin(), p.end());
-  dolfinx::geometry::BoundingBoxTree tree(mesh, 3, 1e-8);
+  dolfinx::geometry::BoundingBoxTree tree(mesh, mesh.topology().dim(), 1e-8);
   auto candidates = dolfinx::geometry::compute_collisions(tree, _x);
   auto cells = dolfinx::geometry::compute_colliding_cells(mesh, candidates, _x);
   for (std::size_t i = 0; i < _points.size(); ++i)

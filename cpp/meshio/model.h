@@ -1,6 +1,7 @@
 // gmsh models to distributed dolfinx meshes with group tags.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -19,9 +20,13 @@
 namespace nct::meshio
 {
 
-/// Physical groups of a model: name -> tag, for volumes and surfaces.
+/// Physical groups of a model: name -> tag, for volumes and surfaces (of
+/// a 2D model: its surfaces and curves, the groups of cells and of facets).
 struct Groups
 {
+  int dimension = 3; ///< of the model's cells: 3, or 2 for a section
+  /// The model's bounding box: x, y, z smallest, then largest [mm].
+  std::array<double, 6> bounds{0, 0, 0, 0, 0, 0};
   std::map<std::string, int> volumes;
   std::map<std::string, int> surfaces;
   /// Per surface group, the volume groups its geometric entities bound
@@ -30,15 +35,16 @@ struct Groups
   std::map<std::string, std::set<std::string>> sides;
 };
 
-/// A tetrahedral mesh with its tagged boundary triangles, held on one
-/// rank (empty elsewhere): the input of `distribute`.
+/// A tetrahedral mesh with its tagged boundary triangles (2D: triangles
+/// and tagged segments), held on one rank (empty elsewhere): the input of
+/// `distribute`. Its dimension is groups.dimension.
 struct Model
 {
-  std::vector<double> x;                 ///< 3 coordinates per node
-  std::vector<std::int64_t> cells;       ///< 4 node indices per tetrahedron
+  std::vector<double> x;                 ///< 3 coordinates per node (z = 0 in 2D)
+  std::vector<std::int64_t> cells;       ///< dimension + 1 node indices per cell
   std::vector<std::int32_t> cell_groups; ///< volume group tag per cell
-  std::vector<std::int64_t> facets;      ///< 3 node indices per triangle
-  std::vector<std::int32_t> facet_groups; ///< surface group tag per triangle
+  std::vector<std::int64_t> facets;      ///< dimension node indices per facet
+  std::vector<std::int32_t> facet_groups; ///< surface group tag per facet
   Groups groups;                         ///< known on every rank
 };
 
@@ -84,8 +90,9 @@ Groups open(MPI_Comm comm, const std::filesystem::path& file,
             const std::map<std::string, double>& parameters = {});
 
 /// Linear tetrahedra and tagged triangles of the current gmsh model (rank
-/// 0), meshing it in 3D first if it has no volume mesh yet (with elements
-/// no larger than `size_max` if it is positive).
+/// 0; of a 2D model, linear triangles and tagged segments), meshing it
+/// first if it has no mesh of its dimension yet (with elements no larger
+/// than `size_max` if it is positive).
 Model extract(MPI_Comm comm, double size_max = 0);
 
 /// The part of a Model in the given volume groups: their cells, the nodes

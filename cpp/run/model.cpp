@@ -165,6 +165,7 @@ std::pair<std::optional<MeshSetup>, std::optional<AirMesh>> file_meshes(MPI_Comm
   solid::Boundaries b;
   b.fixed = tags(bs.fixed);
   b.symmetry = tags(bs.symmetry);
+  b.axis = tags(bs.axis);
   if (auto walls = tags(bs.cavity_wall); !walls.empty())
     b.cavities = {walls};
   b.press = tags(bs.press);

@@ -45,12 +45,20 @@ SolidBlock::SolidBlock(MeshSetup mesh_setup, const Settings& s, bool is_eye)
 
 void SolidBlock::describe(nlohmann::json& summary, io::RunFolder& folder) const
 {
-  const std::int64_t cells = mesh.mesh.mesh->topology().index_map(3)->size_global();
+  const auto& topology = mesh.mesh.mesh->topology();
+  const std::int64_t cells = topology.index_map(topology.dim())->size_global();
   summary["cells"] = cells;
   summary["dofs"] = problem.dofs();
   summary["degree"] = settings.solid.element.degree;
   summary["symmetry_factor"] = problem.symmetry_factor();
-  folder.log(format("mesh: %lld tetrahedra, degree %d, %lld dofs", (long long)cells,
+  const section::Dimension d = problem.dimension();
+  if (d != section::Dimension::three)
+    summary["dimension"] = section::name(d);
+  folder.log(format("mesh: %lld %s, degree %d, %lld dofs", (long long)cells,
+                    d == section::Dimension::three ? "tetrahedra"
+                    : d == section::Dimension::plane
+                        ? "triangles (plane strain)"
+                        : "triangles (an axisymmetric section: whole-body results)",
                     settings.solid.element.degree, (long long)problem.dofs()));
   if (!mesh.probe_names.empty())
     folder.log("step lines: '" + mesh.probe_names[0]

@@ -16,6 +16,15 @@ void visit(scene::Visitor& v, MeshSettings& s)
   v.choice({"mesh.source", "eye", "", -inf, inf,
             "the parametric idealised eye, or an external gmsh mesh (mesh.file)"},
            s.source, {{"eye", MeshSettings::Source::eye}, {"file", MeshSettings::Source::file}});
+  v.choice({"mesh.dimension", "3d", "", -inf, inf,
+            "the model: 3D, or a 2D section in the plane z = 0 of a file mesh: \"axisymmetric\" "
+            "about the y axis (r = x, z = y; results for the whole body of revolution), "
+            "\"plane\" strain (results per mm of thickness)",
+            on_file},
+           s.dimension,
+           {{"3d", section::Dimension::three},
+            {"axisymmetric", section::Dimension::axisymmetric},
+            {"plane", section::Dimension::plane}});
   v.path({"mesh.file", "", "", -inf, inf,
           "external mesh (.msh, or a .geo that gmsh meshes), relative to the scene file; its "
           "physical groups map to materials and boundaries",
@@ -39,6 +48,11 @@ void visit(scene::Visitor& v, MeshSettings& s)
              "and the mesh slides along them)",
              on_file},
             b.symmetry);
+  v.strings({"boundary.axis", "[]", "", -inf, inf,
+             "file, axisymmetric: facet groups on the axis r = 0 (u_r = 0); every boundary the "
+             "section has on the axis must be named here",
+             on_file},
+            b.axis);
   v.strings({"boundary.cavity_wall", "[]", "", -inf, inf,
              "file: facet groups bounding the fluid cavity (IOP acts here)", on_file},
             b.cavity_wall);

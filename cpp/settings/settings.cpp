@@ -29,6 +29,42 @@ std::string leading_key(const std::string& message)
 using Errors = scene::Errors;
 using Load = PuffSettings::Load;
 
+/// A 2D section's keys: what it has (an axis) and what it cannot have
+/// (points off its plane, a closed plane cavity, the air so far).
+void check_section(const scene::Scene& scene, const Settings& s, Errors& e)
+{
+  auto at = [&](const std::string& key, const std::string& what) { e.at(scene, key, what); };
+  const section::Dimension d = s.mesh.dimension;
+  const std::string name = "mesh.dimension = \"" + section::name(d) + "\"";
+  if (d != section::Dimension::axisymmetric && !s.mesh.boundary.axis.empty())
+    at("boundary.axis", "key 'boundary.axis': only an axisymmetric section has an axis; "
+                        "the model is " + name);
+  if (d == section::Dimension::three)
+    return;
+  const Load load = s.puff.load;
+  if (load == Load::air || load == Load::fsi)
+    at("puff.load", "key 'puff.load': the air of a 2D section is not built yet; " + name
+                        + " runs the solid (puff.load \"none\" or a prescribed puff)");
+  if (d == section::Dimension::plane && s.solid.cavity.closed
+      && !s.mesh.boundary.cavity_wall.empty())
+    at("cavity.model", "key 'cavity.model': a plane section's cavity is a prism of infinite "
+                       "length, whose volume means nothing: \"closed\" needs an axisymmetric "
+                       "section; a plane one takes \"constant_pressure\"");
+  auto off_plane = [&](const std::string& key, const std::array<double, 3>& p, bool axis)
+  {
+    if (p[2] != 0)
+      at(key, "key '" + key + "': a point of a 2D section lies in its plane z = 0, got z = "
+                  + std::to_string(p[2]));
+    else if (axis && p[0] != 0)
+      at(key, "key '" + key + "': an axisymmetric cavity's volume is taken about a point on "
+                  "the axis x = 0, got x = " + std::to_string(p[0]));
+  };
+  for (const auto& p : s.solid.probes)
+    off_plane("output.probes", p, false);
+  for (const auto& p : s.solid.cavity.origin)
+    off_plane("cavity.origin", p, d == section::Dimension::axisymmetric);
+}
+
 /// Cross-checks of the settings that no single key can make: contradictory
 /// effects, missing files.
 void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
@@ -115,8 +151,10 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
   if (load == Load::fsi && !fluids.empty() && fluids.size() == s.materials.size())
     at("material", "key 'material': every volume group is fluid; the coupled run needs a solid "
                    "(the fluid alone: puff.load = \"air\")");
+  check_section(scene, s, e);
   const std::vector<std::pair<const char*, const std::vector<std::string>*>> groups
-      = {{"fixed", &b.fixed},   {"symmetry", &b.symmetry}, {"cavity_wall", &b.cavity_wall},
+      = {{"fixed", &b.fixed},   {"symmetry", &b.symmetry}, {"axis", &b.axis},
+         {"cavity_wall", &b.cavity_wall},
          {"press", &b.press},   {"inlet", &b.inlet},       {"outlet", &b.outlet},
          {"wall", &b.wall},     {"interface", &b.interface}};
   if (!flow)
@@ -235,6 +273,42 @@ void build_puff(const scene::Scene& scene, Settings& s, Errors& e)
                [&](const auto& file) { in.points = air::Inlet::read_table(file); });
 }
 
+/// A file mesh's dimension and extent against mesh.dimension: a section
+/// lies in z = 0, an axisymmetric one in x >= 0 with its axis named.
+void check_section_mesh(const scene::Scene& scene, const Settings& s,
+                        const meshio::Groups& groups, Errors& e)
+{
+  const std::string mesh_file = scene.string("mesh.file");
+  const section::Dimension d = s.mesh.dimension;
+  const std::string name = "mesh.dimension = \"" + section::name(d) + "\"";
+  if (groups.dimension != section::mesh_dimension(d))
+  {
+    e.at(scene, "mesh.dimension", "key 'mesh.dimension': " + name + " needs a "
+                                      + (d == section::Dimension::three ? "3D" : "2D")
+                                      + " mesh, but " + mesh_file + " is "
+                                      + std::to_string(groups.dimension) + "D");
+    return;
+  }
+  if (d == section::Dimension::three)
+    return;
+  const auto& x = groups.bounds;
+  // OpenCASCADE widens its boxes by its tolerance (about 1e-7).
+  const double size = std::max({x[3] - x[0], x[4] - x[1], 1e-300}), tol = 1e-6 * size;
+  if (x[2] < -tol || x[5] > tol)
+    e.at(scene, "mesh.file", "key 'mesh.file': a 2D section lies in the plane z = 0, but "
+                                 + mesh_file + " spans z from " + std::to_string(x[2]) + " to "
+                                 + std::to_string(x[5]));
+  if (d != section::Dimension::axisymmetric)
+    return;
+  if (x[0] < -tol)
+    e.at(scene, "mesh.file", "key 'mesh.file': an axisymmetric section lies in r = x >= 0, but "
+                                 + mesh_file + " reaches x = " + std::to_string(x[0]));
+  else if (x[0] <= tol && s.mesh.boundary.axis.empty())
+    e.at(scene, "boundary.axis", "key 'boundary.axis': " + mesh_file + " touches the axis "
+                                     "r = x = 0; name the facet group that lies on it "
+                                     "(u_r = 0 there)");
+}
+
 /// An external mesh's groups against the scene's materials and boundaries.
 void check_file_groups(const scene::Scene& scene, const Settings& s, const meshio::Groups& groups,
                        Errors& e)
@@ -253,10 +327,12 @@ void check_file_groups(const scene::Scene& scene, const Settings& s, const meshi
   for (auto& [n, t] : groups.surfaces)
     known += (known.empty() ? "" : ", ") + n;
   const auto& b = s.mesh.boundary;
+  check_section_mesh(scene, s, groups, e);
   for (const auto& [key, list] :
        std::vector<std::pair<std::string, const std::vector<std::string>*>>{
            {"boundary.fixed", &b.fixed},
            {"boundary.symmetry", &b.symmetry},
+           {"boundary.axis", &b.axis},
            {"boundary.cavity_wall", &b.cavity_wall},
            {"boundary.press", &b.press},
            {"boundary.inlet", &b.inlet},
@@ -444,6 +520,7 @@ Input read(MPI_Comm comm, const std::filesystem::path& file,
   scene::Reader reader(scene);
   visit(reader, s);
   s.materials.erase("*"); // declared only
+  s.solid.element.dimension = s.mesh.dimension;
   check_consistency(scene, s, errors);
   build_puff(scene, s, errors);
   check_meshes(comm, scene, s, errors);

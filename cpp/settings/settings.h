@@ -57,6 +57,7 @@ struct MeshSettings
     file
   };
   Source source;
+  section::Dimension dimension;              ///< 3D or a 2D section
   std::filesystem::path file;                ///< mesh.file, resolved
   double size_max;                           ///< [mm]
   scene::Options parameters;                 ///< a .geo's constants, as given
@@ -65,7 +66,7 @@ struct MeshSettings
   /// A file mesh's facet groups by condition (boundary.*).
   struct Boundaries
   {
-    std::vector<std::string> fixed, symmetry, cavity_wall, press, inlet, outlet, wall,
+    std::vector<std::string> fixed, symmetry, axis, cavity_wall, press, inlet, outlet, wall,
         interface;
   } boundary;
   bool eye() const { return source == Source::eye; }

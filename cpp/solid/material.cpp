@@ -10,7 +10,7 @@ namespace nct::solid
 CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
                        const std::map<std::int32_t, std::string>& parts,
                        const std::map<std::string, Material>& materials,
-                       const FibreRule& fibres,
+                       const FibreRule& fibres, section::Dimension dimension,
                        const std::shared_ptr<const dolfinx::fem::FunctionSpace>& scalar,
                        const std::shared_ptr<const dolfinx::fem::FunctionSpace>& vector)
 {
@@ -37,6 +37,7 @@ CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
   const auto& xdofs = mesh.geometry().dofmap();
   const auto& sdofs = *scalar->dofmap();
   const auto& vdofs = *vector->dofmap();
+  const int bs = vdofs.bs(); // 3, or 3 per azimuth (axisymmetric)
   for (std::int32_t c = 0; c < num_cells; ++c)
   {
     auto part = parts.find(group[c]);
@@ -66,13 +67,30 @@ CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
     for (auto n : nodes)
       for (int j = 0; j < 3; ++j)
         X[j] += xg[3 * n + j] / nodes.size();
-    auto a = hgo ? fibres(part->second, X)
-                 : std::array<std::array<double, 3>, 2>{};
+    if (!hgo)
+      continue; // no fibres: zero
     const std::int32_t dv = vdofs.cell_dofs(c)[0];
-    for (int j = 0; j < 3; ++j)
+    auto set = [&](int k, const std::array<std::array<double, 3>, 2>& a)
     {
-      f["fibre_1"]->x()->mutable_array()[3 * dv + j] = a[0][j];
-      f["fibre_2"]->x()->mutable_array()[3 * dv + j] = a[1][j];
+      for (int j = 0; j < 3; ++j)
+      {
+        f["fibre_1"]->x()->mutable_array()[bs * dv + 3 * k + j] = a[0][j];
+        f["fibre_2"]->x()->mutable_array()[bs * dv + 3 * k + j] = a[1][j];
+      }
+    };
+    if (dimension != section::Dimension::axisymmetric)
+    {
+      set(0, fibres(part->second, X));
+      continue;
+    }
+    for (int k = 0; k < bs / 3; ++k)
+    {
+      // The rule at azimuth phi, in (e_r, e_z, e_theta) there.
+      const double phi = 2 * M_PI * (k + 0.5) / (bs / 3), c = std::cos(phi), s = std::sin(phi);
+      auto a = fibres(part->second, {X[0] * c, X[1], X[0] * s});
+      for (auto& d : a)
+        d = {d[0] * c + d[2] * s, d[1], -d[0] * s + d[2] * c};
+      set(k, a);
     }
   }
   for (auto& [name, fn] : f)

@@ -11,6 +11,8 @@
 #include <dolfinx/fem/Function.h>
 #include <dolfinx/mesh/MeshTags.h>
 
+#include "section/section.h"
+
 namespace nct::solid
 {
 
@@ -35,7 +37,11 @@ struct Material
 };
 
 /// Fibre directions (two families, zero when absent) of a part at a
-/// reference point.
+/// reference point, in 3D (the optical axis y). A section (x[0], x[1]) is
+/// the 3D plane z = 0: plane, the rule is taken there; axisymmetric about
+/// x[1], it is taken at each azimuth phi_k = 2 pi (k + 1/2) / n of the
+/// point (r cos phi, z, r sin phi), in the local frame (r, z, theta), for
+/// forms/hgo.py's average over the azimuth (n = the fibre field's size / 3).
 using FibreRule = std::function<std::array<std::array<double, 3>, 2>(
     const std::string& part, const std::array<double, 3>& X)>;
 
@@ -47,7 +53,7 @@ using CellFields = std::map<std::string, std::shared_ptr<dolfinx::fem::Function<
 CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
                        const std::map<std::int32_t, std::string>& parts,
                        const std::map<std::string, Material>& materials,
-                       const FibreRule& fibres,
+                       const FibreRule& fibres, section::Dimension dimension,
                        const std::shared_ptr<const dolfinx::fem::FunctionSpace>& scalar,
                        const std::shared_ptr<const dolfinx::fem::FunctionSpace>& vector);
 

@@ -15,11 +15,23 @@
 #include <dolfinx/mesh/utils.h>
 
 #include "solid_p1_full.h"
+#include "solid_p1_full_axisymmetric.h"
+#include "solid_p1_full_plane.h"
 #include "solid_p1_reduced.h"
+#include "solid_p1_reduced_axisymmetric.h"
+#include "solid_p1_reduced_plane.h"
 #include "solid_p2_full.h"
-#include "solid_p2_reduced.h"
+#include "solid_p2_full_axisymmetric.h"
 #include "solid_p2_full_mixed.h"
+#include "solid_p2_full_mixed_axisymmetric.h"
+#include "solid_p2_full_mixed_plane.h"
+#include "solid_p2_full_plane.h"
+#include "solid_p2_reduced.h"
+#include "solid_p2_reduced_axisymmetric.h"
 #include "solid_p2_reduced_mixed.h"
+#include "solid_p2_reduced_mixed_axisymmetric.h"
+#include "solid_p2_reduced_mixed_plane.h"
+#include "solid_p2_reduced_plane.h"
 
 namespace nct::solid
 {
@@ -27,7 +39,7 @@ namespace
 {
 using namespace dolfinx;
 
-/// The compiled kernels of forms/solid.py for one element degree.
+/// The compiled kernels of forms/solid.py for one element and dimension.
 struct Kernels
 {
   ufcx_form* R;
@@ -56,16 +68,42 @@ struct Kernels
           expression_solid_##v##_von_mises, expression_solid_##v##_det_F,         \
           functionspace_form_solid_##v##_R}
 
+// The kernels of one dimension; `d` is empty (3D), _axisymmetric or _plane.
+#define NCT_SOLID_KERNELS_OF(e, d)                                               \
+  if (e.degree == 1 && !e.mixed)                                                 \
+    return e.reduced_quadrature ? NCT_SOLID_KERNELS(p1_reduced##d)              \
+                                : NCT_SOLID_KERNELS(p1_full##d);                \
+  if (e.degree == 2 && !e.mixed)                                                 \
+    return e.reduced_quadrature ? NCT_SOLID_KERNELS(p2_reduced##d)              \
+                                : NCT_SOLID_KERNELS(p2_full##d);                \
+  if (e.degree == 2)                                                             \
+    return e.reduced_quadrature ? NCT_SOLID_KERNELS(p2_reduced_mixed##d)        \
+                                : NCT_SOLID_KERNELS(p2_full_mixed##d);
+
 Kernels kernels(const Element& e)
 {
-  if (e.degree == 1 && !e.mixed)
-    return e.reduced_quadrature ? NCT_SOLID_KERNELS(p1_reduced) : NCT_SOLID_KERNELS(p1_full);
-  if (e.degree == 2 && !e.mixed)
-    return e.reduced_quadrature ? NCT_SOLID_KERNELS(p2_reduced) : NCT_SOLID_KERNELS(p2_full);
-  if (e.degree == 2)
-    return e.reduced_quadrature ? NCT_SOLID_KERNELS(p2_reduced_mixed)
-                                : NCT_SOLID_KERNELS(p2_full_mixed);
+  switch (e.dimension)
+  {
+  case section::Dimension::three:
+    NCT_SOLID_KERNELS_OF(e, )
+    break;
+  case section::Dimension::axisymmetric:
+    NCT_SOLID_KERNELS_OF(e, _axisymmetric)
+    break;
+  case section::Dimension::plane:
+    NCT_SOLID_KERNELS_OF(e, _plane)
+    break;
+  }
   throw std::invalid_argument("the mixed formulation needs fem.degree = 2");
+}
+
+/// A facet group's name (its tag if it has none).
+std::string group_name(const meshio::Groups& groups, std::int32_t tag)
+{
+  for (auto& [name, t] : groups.surfaces)
+    if (t == tag)
+      return name;
+  return std::to_string(tag);
 }
 
 /// Facet tags of forms/solid.py.
@@ -73,23 +111,38 @@ constexpr std::array<std::int32_t, 2> cavity_wall_tags = {1, 3};
 constexpr std::int32_t press_tag = 2;
 constexpr std::int32_t support_tag = 4;
 
-/// The rigid-body modes of a displacement space of block size 3 (three
-/// translations, three rotations), orthonormalised: the near-nullspace an
+/// The rigid-body modes of a displacement space, orthonormalised: three
+/// translations and three rotations in 3D, two and one in the plane, the
+/// axial translation of an axisymmetric section. The near-nullspace an
 /// algebraic multigrid preconditioner (PETSc's GAMG) builds its coarse
 /// spaces from (Adams 2002, the elasticity demo of dolfinx). Direct solvers
 /// ignore it.
-MatNullSpace rigid_body_modes(const fem::FunctionSpace& V)
+MatNullSpace rigid_body_modes(const fem::FunctionSpace& V, section::Dimension dimension)
 {
   const auto map = V.dofmap()->index_map;
   const int bs = V.dofmap()->index_map_bs();
-  std::vector<la::Vector<double>> basis(6, la::Vector<double>(map, bs));
+  const int modes = dimension == section::Dimension::three ? 6
+                    : dimension == section::Dimension::plane ? 3
+                                                               : 1;
+  std::vector<la::Vector<double>> basis(modes, la::Vector<double>(map, bs));
   const std::vector<double> x = V.tabulate_dof_coordinates(false);
   const std::int32_t nodes = map->size_local() + map->num_ghosts();
   for (std::int32_t i = 0; i < nodes; ++i)
   {
     const double* p = &x[3 * i];
-    for (int k = 0; k < 3; ++k)
-      basis[k].mutable_array()[3 * i + k] = 1;
+    if (dimension == section::Dimension::axisymmetric)
+    {
+      basis[0].mutable_array()[bs * i + 1] = 1;
+      continue;
+    }
+    for (int k = 0; k < bs; ++k)
+      basis[k].mutable_array()[bs * i + k] = 1;
+    if (dimension == section::Dimension::plane)
+    {
+      basis[2].mutable_array()[bs * i] = -p[1];
+      basis[2].mutable_array()[bs * i + 1] = p[0];
+      continue;
+    }
     const double r[3][3] = {{-p[1], p[0], 0}, {0, -p[2], p[1]}, {p[2], 0, -p[0]}};
     for (int m = 0; m < 3; ++m)
       for (int k = 0; k < 3; ++k)
@@ -105,11 +158,11 @@ MatNullSpace rigid_body_modes(const fem::FunctionSpace& V)
     VecDestroy(&wrap);
     vecs.push_back(copy);
   }
-  MatNullSpace modes;
-  MatNullSpaceCreate(map->comm(), PETSC_FALSE, 6, vecs.data(), &modes);
+  MatNullSpace space;
+  MatNullSpaceCreate(map->comm(), PETSC_FALSE, modes, vecs.data(), &space);
   for (Vec& v : vecs)
     VecDestroy(&v);
-  return modes;
+  return space;
 }
 
 } // namespace
@@ -119,9 +172,16 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
                  const std::map<std::string, Material>& materials,
                  const FibreRule& fibres, const Boundaries& boundaries,
                  std::array<double, 3> volume_origin)
-    : _cells(m.cells), _parts(parts), _materials(materials), _fibres(fibres)
+    : _dimension(element.dimension), _cells(m.cells), _parts(parts), _materials(materials),
+      _fibres(fibres)
 {
   const Kernels k = kernels(element);
+  const Kernels p1 = kernels(Element{1, false, false, element.dimension});
+  const int gdim = section::mesh_dimension(_dimension);
+  if (m.mesh->geometry().dim() != gdim)
+    throw std::invalid_argument("a " + section::name(_dimension) + " model needs a mesh of "
+                                + std::to_string(gdim) + " dimensions, not "
+                                + std::to_string(m.mesh->geometry().dim()));
   for (const ufcx_form* f : {k.R, k.J, k.R_dynamic, k.J_dynamic})
     _forms_signature += std::string(f->signature) + " ";
   auto V = std::make_shared<fem::FunctionSpace>(
@@ -135,14 +195,14 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
   von_mises = std::make_shared<fem::Function<double>>(Q0);
   von_mises->name = "von_mises_stress";
   _coordinate_space = std::make_shared<fem::FunctionSpace>(
-      fem::create_functionspace(functionspace_form_solid_p1_full_R, "u", m.mesh));
+      fem::create_functionspace(p1.space, "u", m.mesh));
   press_profile = std::make_shared<fem::Function<double>>(
       std::make_shared<fem::FunctionSpace>(
           fem::create_functionspace(k.space, "press_profile", m.mesh)));
   press_profile->name = "press_profile";
   press_profile->x()->set(1.0);
   _profile_points = press_profile->function_space()->tabulate_dof_coordinates(false);
-  fields = cell_fields(*m.cells, parts, materials, fibres, Q0, Q0v);
+  fields = cell_fields(*m.cells, parts, materials, fibres, _dimension, Q0, Q0v);
 
   // Integration tags: cells by law, facets by load.
   std::map<std::int32_t, std::int32_t> law_of_group, load_of_group;
@@ -166,7 +226,7 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
     _p_cavities.push_back(std::make_shared<fem::Constant<double>>(0.0));
   _p_press = std::make_shared<fem::Constant<double>>(0.0);
   _x0 = std::make_shared<fem::Constant<double>>(
-      std::vector<double>(volume_origin.begin(), volume_origin.end()));
+      std::vector<double>(volume_origin.begin(), volume_origin.begin() + gdim));
   _support = boundaries.support;
   _support_stiffness = std::make_shared<fem::Constant<double>>(0.0);
   _support_damping = std::make_shared<fem::Constant<double>>(0.0);
@@ -250,13 +310,15 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
   _det_F = std::make_shared<fem::Expression<double>>(
       fem::create_expression<double>(*k.det_F, coeffs, {}, m.mesh));
 
-  // Dirichlet conditions: clamped groups, and one component per symmetry plane.
+  // Dirichlet conditions: clamped groups, and one component per symmetry
+  // plane and on the axis.
   auto facets_of = [&](std::int32_t g) { return m.facets->find(g); };
+  const int fdim = gdim - 1;
   for (auto g : boundaries.fixed)
   {
-    auto dofs = fem::locate_dofs_topological(*V, 2, facets_of(g));
+    auto dofs = fem::locate_dofs_topological(*V, fdim, facets_of(g));
     _bcs.push_back(std::make_shared<fem::DirichletBC<double>>(
-        std::vector<double>{0, 0, 0}, std::move(dofs), V));
+        std::vector<double>(gdim, 0.0), std::move(dofs), V));
   }
   std::set<int> axes;
   for (auto g : boundaries.symmetry)
@@ -269,25 +331,42 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
     int axis = meshio::normal_axis(*m.mesh, *m.facets, g);
     if (axis < 0)
     {
-      std::string name = std::to_string(g);
-      for (auto& [n, t] : m.groups.surfaces)
-        if (t == g)
-          name = n;
-      throw std::runtime_error("symmetry group '" + name
+      throw std::runtime_error("symmetry group '" + group_name(m.groups, g)
                                + "' is not a plane x, y or z = const");
     }
+    if (axis == 0 && _dimension == section::Dimension::axisymmetric)
+      throw std::runtime_error("a symmetry plane r = const of an axisymmetric section is not "
+                               "a mirror plane (the axis r = 0 is boundary.axis)");
     // A mirror plane halves the model; a group on two planes of one axis
     // (the faces of a slab) does not.
     const auto [lo, hi] = meshio::coordinate_range(*m.mesh, *m.facets, g, axis);
     if (hi - lo <= 1e-9 * std::max(1.0, std::abs(hi)))
       axes.insert(axis);
     auto Vi = V->sub({axis});
-    auto dofs = fem::locate_dofs_topological(*Vi, 2, facets_of(g));
+    auto dofs = fem::locate_dofs_topological(*Vi, fdim, facets_of(g));
     _symmetry_bcs.push_back(
         std::make_shared<fem::DirichletBC<double>>(0.0, std::move(dofs), Vi));
   }
+  for (auto g : boundaries.axis)
+  {
+    // A group with no facets here is on a coupled fluid's side only.
+    std::int64_t count = static_cast<std::int64_t>(facets_of(g).size());
+    MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_INT64_T, MPI_SUM, m.mesh->comm());
+    if (count == 0)
+      continue;
+    const auto [lo, hi] = meshio::coordinate_range(*m.mesh, *m.facets, g, 0);
+    if (std::max(std::abs(lo), std::abs(hi)) > 1e-9 * std::max(1.0, std::abs(hi)))
+      throw std::runtime_error("axis group '" + group_name(m.groups, g) + "' is not on r = 0 "
+                               "(its x runs from " + std::to_string(lo) + " to "
+                               + std::to_string(hi) + ")");
+    auto Vr = V->sub({0});
+    auto dofs = fem::locate_dofs_topological(*Vr, fdim, facets_of(g));
+    _symmetry_bcs.push_back(
+        std::make_shared<fem::DirichletBC<double>>(0.0, std::move(dofs), Vr));
+  }
   _bcs.insert(_bcs.end(), _symmetry_bcs.begin(), _symmetry_bcs.end());
-  _symmetry_factor = 1 << axes.size();
+  _symmetry_factor = (1 << axes.size())
+                     * (_dimension == section::Dimension::axisymmetric ? 2 * M_PI : 1.0);
 }
 
 void Problem::set_cavity_pressures(const std::vector<double>& pressures)
@@ -414,7 +493,7 @@ void Problem::save(io::CheckpointWriter& checkpoint) const
   {
     checkpoint.add("solid/u_support", *_u_support);
     const auto& V = *u->function_space();
-    checkpoint.add("solid/preload", _preload->array(), 3, checkpoint.keys(V),
+    checkpoint.add("solid/preload", _preload->array(), _preload->bs(), checkpoint.keys(V),
                    V.dofmap()->index_map->size_local());
   }
 }
@@ -435,8 +514,9 @@ void Problem::restore(const io::CheckpointReader& checkpoint, const std::optiona
     checkpoint.read("solid/u_support", *_u_support);
     _preload.emplace(u->x()->map(), u->x()->bs());
     auto preload = _preload->mutable_array();
-    checkpoint.read("solid/preload", preload, 3, checkpoint.keys(*u->function_space()));
-    const std::size_t owned = _preload->map()->size_local() * 3;
+    checkpoint.read("solid/preload", preload, _preload->bs(),
+                    checkpoint.keys(*u->function_space()));
+    const std::size_t owned = _preload->map()->size_local() * _preload->bs();
     std::fill(preload.begin() + owned, preload.end(), 0.0); // owned entries only
     release_support();
   }
@@ -528,8 +608,9 @@ std::vector<double> Problem::nodal_displacement() const
   const auto& xdofs = mesh.geometry().dofmap();
   const auto& dofs = *P1->dofmap();
   std::vector<double> out(mesh.geometry().x().size());
-  const std::int32_t cells = mesh.topology().index_map(3)->size_local()
-                             + mesh.topology().index_map(3)->num_ghosts();
+  const int tdim = mesh.topology().dim(), bs = w.x()->bs();
+  const std::int32_t cells = mesh.topology().index_map(tdim)->size_local()
+                             + mesh.topology().index_map(tdim)->num_ghosts();
   for (std::int32_t c = 0; c < cells; ++c)
   {
     auto nodes = xdofs.links(c);
@@ -537,8 +618,8 @@ std::vector<double> Problem::nodal_displacement() const
     if (nodes.size() != d.size())
       throw std::runtime_error("nodal values need a linear (P1) mesh geometry");
     for (std::size_t i = 0; i < nodes.size(); ++i)
-      for (int j = 0; j < 3; ++j)
-        out[3 * nodes[i] + j] = w.x()->array()[3 * d[i] + j];
+      for (int j = 0; j < bs; ++j)
+        out[3 * nodes[i] + j] = w.x()->array()[bs * d[i] + j];
   }
   return out;
 }
@@ -546,7 +627,7 @@ std::vector<double> Problem::nodal_displacement() const
 void Problem::update_reference()
 {
   _profile_points = press_profile->function_space()->tabulate_dof_coordinates(false);
-  auto fresh = cell_fields(*_cells, _parts, _materials, _fibres,
+  auto fresh = cell_fields(*_cells, _parts, _materials, _fibres, _dimension,
                            fields.at("c10")->function_space(),
                            fields.at("fibre_1")->function_space());
   for (const char* name : {"fibre_1", "fibre_2"})
@@ -587,9 +668,8 @@ Mat Problem::create_matrix(const std::string& type) const
     MatSetOption(A, MAT_IGNORE_LOWER_TRIANGULAR, PETSC_TRUE);
   }
   const auto& V = *u->function_space();
-  if (V.element()->num_sub_elements() == 3 && V.dofmap()->index_map_bs() == 3)
   {
-    MatNullSpace modes = rigid_body_modes(V);
+    MatNullSpace modes = rigid_body_modes(V, _dimension);
     MatSetNearNullSpace(A, modes);
     MatNullSpaceDestroy(&modes);
   }
@@ -646,7 +726,7 @@ Problem::Place Problem::gather(const Place& local) const
 Problem::Place Problem::smallest_jacobian() const
 {
   const auto& mesh = *u->function_space()->mesh();
-  const std::int32_t n = mesh.topology().index_map(3)->size_local();
+  const std::int32_t n = mesh.topology().index_map(mesh.topology().dim())->size_local();
   std::vector<std::int32_t> cells(n);
   std::iota(cells.begin(), cells.end(), 0);
   const std::size_t points = _det_F->X().second[0];

@@ -19,6 +19,7 @@
 
 #include "io/checkpoint.h"
 #include "meshio/model.h"
+#include "section/section.h"
 #include "solid/material.h"
 
 namespace nct::solid
@@ -38,6 +39,7 @@ struct Boundaries
 {
   std::vector<std::int32_t> fixed;        ///< u = 0 (clamped), or the support's
   std::vector<std::int32_t> symmetry;     ///< u . n = 0 on axis-aligned planes
+  std::vector<std::int32_t> axis;         ///< u_r = 0 (an axisymmetric section's r = 0)
   /// Walls of up to two cavities (each a list of groups): their pressures act here
   std::vector<std::vector<std::int32_t>> cavities;
   std::vector<std::int32_t> press; ///< the press (and a prescribed puff) acts here
@@ -63,6 +65,7 @@ struct Element
   int degree = 2;                  ///< of the displacement: 1 or 2
   bool reduced_quadrature = true;  ///< cells at degree 2(degree-1), else 2 degree
   bool mixed = false;              ///< displacement-pressure P2/P0 (forms/solid.py)
+  section::Dimension dimension = section::Dimension::three; ///< 3D or a section
 };
 
 /// Residual, Jacobian and derived quantities of the solid at the current u.
@@ -71,8 +74,10 @@ struct Element
 class Problem
 {
 public:
-  /// `fibres` gives the fibre directions of a part at a reference point;
-  /// `volume_origin` is the point the cavity volume is taken about.
+  /// `fibres` gives the fibre directions of a part at a reference point
+  /// (3D; a section's are taken from it, solid/material.h);
+  /// `volume_origin` is the point the cavity volume is taken about (on
+  /// the axis of an axisymmetric section).
   Problem(const meshio::Tagged& mesh, const Element& element,
           const std::map<std::int32_t, std::string>& parts,
           const std::map<std::string, Material>& materials,
@@ -92,7 +97,7 @@ public:
   /// A = dR/du with identity rows on Dirichlet dofs.
   void jacobian(Mat A);
   /// Zero Jacobian with the sparsity of dR/du.
-  /// Block size 3 (one block per node) inserts a Jacobian 2x faster than
+  /// Block size 3 (one block per node, 2 on a section) inserts a Jacobian 2x faster than
   /// "aij"; "sbaij" keeps only the upper triangle (the lower is ignored as
   /// it is assembled), for an LDL^T factorisation of the symmetric part.
   Mat create_matrix(const std::string& type = "baij") const;
@@ -142,7 +147,7 @@ public:
   /// symmetry planes' dofs only (the springs free the clamped ones).
   std::vector<std::int8_t> dynamic_dirichlet_marker() const;
   /// Stored energy at u and kinetic energy at v_old [N mm = mJ], whole model
-  /// (times the symmetry factor).
+  /// (times the whole-model factor).
   double strain_energy() const;
   double kinetic_energy() const;
 
@@ -185,7 +190,11 @@ public:
   std::shared_ptr<dolfinx::fem::Function<double>> u_old, v_old, a_old;
   CellFields fields;                                          ///< materials and fibres
   std::int64_t dofs() const;
-  int symmetry_factor() const { return _symmetry_factor; }
+  /// What the meshed part's integrals are multiplied by for the whole
+  /// model: 2 per mirror plane, and 2 pi about the axis of an
+  /// axisymmetric section (its integrals are per radian).
+  double symmetry_factor() const { return _symmetry_factor; }
+  section::Dimension dimension() const { return _dimension; }
   /// The FFCx signatures of the compiled residuals and Jacobians in use:
   /// another build of the forms has others.
   const std::string& forms_signature() const { return _forms_signature; }
@@ -193,7 +202,7 @@ public:
 private:
   /// The support's springs and dashpots in place of the clamp (dynamics).
   void release_support();
-  /// Scalar forms summed over the ranks, times the symmetry factor.
+  /// Scalar forms summed over the ranks, times the whole-model factor.
   std::vector<double>
   whole_model(const std::vector<std::shared_ptr<dolfinx::fem::Form<double>>>& forms) const;
 
@@ -224,7 +233,8 @@ private:
   std::optional<dolfinx::la::Vector<double>> _preload;
   std::shared_ptr<dolfinx::fem::Form<double>> _support_area;
   std::shared_ptr<dolfinx::mesh::MeshTags<std::int32_t>> _law_tags, _load_tags;
-  int _symmetry_factor = 1;
+  double _symmetry_factor = 1;
+  section::Dimension _dimension = section::Dimension::three;
   std::string _forms_signature;
   std::vector<double> _profile_points; ///< reference points of press_profile's dofs
   // What lays the fibres: kept for update_reference().
