@@ -13,21 +13,26 @@ moves with velocity w (BDF1: c = 1, -1, 0; BDF2: 3/2, -2, 1/2; steady
 flow: inv_dt = 0). Walls, symmetry planes and the inlet are Dirichlet
 conditions on u (cpp/air); the outlet's natural condition is sigma n = 0.
 
-`degree` and `quadrature_degree` are set by the CMake wrapper.
+On a section (`dimension`, section.py) every integral is weighted by r
+(axisymmetric: per radian) and the residual is the 3D one
+(navier_stokes.py).
+
+`degree`, `quadrature_degree` and `dimension` are set by the CMake wrapper.
 """
 from ufl import (Constant, Coefficient, FacetNormal, FiniteElement, Measure, MixedElement,
-                 TestFunctions, TrialFunction, VectorElement, derivative, split,
-                 tetrahedron)
+                 TestFunctions, TrialFunction, VectorElement, derivative, split)
 
 import navier_stokes
+import section
 
 # Facet tag of the outlet, shared with cpp/air/problem.cpp.
 OUTLET = 1
 
-velocity_element = VectorElement("Lagrange", tetrahedron, degree)  # noqa: F821 (wrapper)
-pressure_element = FiniteElement("Lagrange", tetrahedron, degree)  # noqa: F821
+cell = section.cell(dimension)  # noqa: F821 (wrapper)
+velocity_element = VectorElement("Lagrange", cell, degree)  # noqa: F821 (wrapper)
+pressure_element = FiniteElement("Lagrange", cell, degree)  # noqa: F821
 element = MixedElement([velocity_element, pressure_element])
-mesh_velocity_element = VectorElement("Lagrange", tetrahedron, 1)
+mesh_velocity_element = VectorElement("Lagrange", cell, 1)
 
 v, q = TestFunctions(element)
 dup = TrialFunction(element)
@@ -39,25 +44,26 @@ u, p = split(up)
 u_n, _ = split(up_n)
 u_nm1, _ = split(up_nm1)
 
-rho = Constant(tetrahedron)        # [g/mm^3]
-mu = Constant(tetrahedron)         # [MPa ms]
-inv_dt = Constant(tetrahedron)     # 1/dt [1/ms]; 0: steady
-inv_tau_time = Constant(tetrahedron)  # 1/T of the stabilisation [1/ms] (navier_stokes.tau)
-c0 = Constant(tetrahedron)         # BDF coefficients
-c1 = Constant(tetrahedron)
-c2 = Constant(tetrahedron)
-beta = Constant(tetrahedron)       # backflow coefficient [-]
-continuity_scale = Constant(tetrahedron)  # [g/(mm^2 ms)]: continuity rows in N
+rho = Constant(cell)        # [g/mm^3]
+mu = Constant(cell)         # [MPa ms]
+inv_dt = Constant(cell)     # 1/dt [1/ms]; 0: steady
+inv_tau_time = Constant(cell)  # 1/T of the stabilisation [1/ms] (navier_stokes.tau)
+c0 = Constant(cell)         # BDF coefficients
+c1 = Constant(cell)
+c2 = Constant(cell)
+beta = Constant(cell)       # backflow coefficient [-]
+continuity_scale = Constant(cell)  # [g/(mm^2 ms)]: continuity rows in N
 
 # Fixed quadrature: tau's square root and division make UFL's estimate explode.
 dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
 ds = Measure("ds", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
-n = FacetNormal(tetrahedron)
+n = FacetNormal(cell)
+r = section.weight(cell, dimension)  # noqa: F821
 
 dudt = inv_dt * (c0 * u + c1 * u_n + c2 * u_nm1)
-R = (navier_stokes.cell_residual(u, p, v, q, dudt, w, u_n, rho, mu, inv_tau_time, tetrahedron,
-                                 continuity_scale) * dx
-     + navier_stokes.backflow(u, v, w, n, rho, beta) * ds(OUTLET))
+R = (navier_stokes.cell_residual(u, p, v, q, dudt, w, u_n, rho, mu, inv_tau_time, cell,
+                                 continuity_scale, dimension) * r * dx  # noqa: F821
+     + navier_stokes.backflow(u, v, w, n, rho, beta) * r * ds(OUTLET))
 J = derivative(R, up, dup)
 
 forms = [R, J]

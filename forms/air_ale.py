@@ -35,21 +35,31 @@ Forms:
   reaction (the coupled puff's energy balance, cpp/run/air_block.h);
 - mesh_jacobian (expression): det F per cell, whose sign shows a folded cell.
 
-`degree` and `quadrature_degree` are set by the CMake wrapper.
+On a section (`dimension`, section.py) F = I + Grad d is the 3x3 one
+(axisymmetric: its hoop entry 1 + d_r/R, the mesh's own hoop stretch),
+N and the tractions are padded, and every integral is weighted by the
+reference radius R (axisymmetric: per radian): R J is the current radius
+times the in-plane Jacobian, the current volume element. The forces are
+the meshed part's, per radian (axisymmetric: their radial sum is zero
+over the revolution) or per unit thickness.
+
+`degree`, `quadrature_degree` and `dimension` are set by the CMake wrapper.
 """
 from ufl import (Constant, Coefficient, FacetNormal, FiniteElement, Identity, Measure,
-                 MixedElement, TestFunctions, TrialFunction, VectorElement, as_vector, derivative,
-                 det, dot, grad, split, tetrahedron)
+                 MixedElement, SpatialCoordinate, TestFunctions, TrialFunction, VectorElement,
+                 derivative, det, dot, split)
 
 import navier_stokes
+import section
 
 # Facet tags, shared with cpp/air/problem.cpp.
 OUTLET, INTERFACE = 1, 2
 
-velocity_element = VectorElement("Lagrange", tetrahedron, degree)  # noqa: F821 (wrapper)
-pressure_element = FiniteElement("Lagrange", tetrahedron, degree)  # noqa: F821
+cell = section.cell(dimension)  # noqa: F821 (wrapper)
+velocity_element = VectorElement("Lagrange", cell, degree)  # noqa: F821 (wrapper)
+pressure_element = FiniteElement("Lagrange", cell, degree)  # noqa: F821
 element = MixedElement([velocity_element, pressure_element])
-mesh_element = VectorElement("Lagrange", tetrahedron, 1)
+mesh_element = VectorElement("Lagrange", cell, 1)
 
 v, q = TestFunctions(element)
 dup = TrialFunction(element)
@@ -65,41 +75,45 @@ u, p = split(up)
 u_n, _ = split(up_n)
 u_nm1, _ = split(up_nm1)
 
-rho = Constant(tetrahedron)        # [g/mm^3]
-mu = Constant(tetrahedron)         # [MPa ms]
-inv_dt = Constant(tetrahedron)     # 1/dt [1/ms]; 0: steady
-inv_tau_time = Constant(tetrahedron)  # 1/T of the stabilisation [1/ms] (navier_stokes.tau)
-c0 = Constant(tetrahedron)         # BDF coefficients
-c1 = Constant(tetrahedron)
-c2 = Constant(tetrahedron)
-beta = Constant(tetrahedron)       # backflow coefficient [-]
-continuity_scale = Constant(tetrahedron)  # [g/(mm^2 ms)]: continuity rows in N
+rho = Constant(cell)        # [g/mm^3]
+mu = Constant(cell)         # [MPa ms]
+inv_dt = Constant(cell)     # 1/dt [1/ms]; 0: steady
+inv_tau_time = Constant(cell)  # 1/T of the stabilisation [1/ms] (navier_stokes.tau)
+c0 = Constant(cell)         # BDF coefficients
+c1 = Constant(cell)
+c2 = Constant(cell)
+beta = Constant(cell)       # backflow coefficient [-]
+continuity_scale = Constant(cell)  # [g/(mm^2 ms)]: continuity rows in N
 
 # Fixed quadrature: tau's square root and division make UFL's estimate explode.
 dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
 ds = Measure("ds", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
-N = FacetNormal(tetrahedron)       # reference outward normal of the air
+N = section.vector(FacetNormal(cell), dimension)  # noqa: F821: reference outward normal
+X_r = section.weight(cell, dimension)  # noqa: F821: the reference radius R, else 1
 
-F = Identity(3) + grad(d)          # the mesh map's gradient
-F_n = Identity(3) + grad(d_n)
+F = Identity(3) + section.gradient(d, dimension)  # noqa: F821: the mesh map's gradient
+F_n = Identity(3) + section.gradient(d_n, dimension)  # noqa: F821
 w = inv_dt * (c0 * d + c1 * d_n + c2 * d_nm1)        # mesh velocity
 dudt = inv_dt * (c0 * u + c1 * u_n + c2 * u_nm1)     # du/dt at fixed X
+# The current radius (axisymmetric).
+r = SpatialCoordinate(cell)[0] + d[0] if dimension == "axisymmetric" else None  # noqa: F821
 
 R = (navier_stokes.cell_residual_ale(u, p, v, q, dudt, w, F, u_n, w_n, F_n, rho, mu, inv_tau_time,
-                                     tetrahedron, continuity_scale) * dx
-     + navier_stokes.backflow(u, v, w, N, rho, beta) * ds(OUTLET))
+                                     cell, continuity_scale, dimension, r) * X_r * dx  # noqa: F821
+     + navier_stokes.backflow(u, v, w, FacetNormal(cell), rho, beta) * X_r * ds(OUTLET))
 J = derivative(R, up, dup)
 J_mesh = derivative(R, d, dd)
 
 # The air's force on the interface [N] (meshed part), -sigma n da.
-traction = navier_stokes.wall_traction(u, p, mu, F, N)
-force_x = -traction[0] * ds(INTERFACE)
-force_y = -traction[1] * ds(INTERFACE)
-force_z = -traction[2] * ds(INTERFACE)
+traction = navier_stokes.wall_traction(u, p, mu, F, N, dimension)  # noqa: F821
+force_x = -traction[0] * X_r * ds(INTERFACE)
+force_y = -traction[1] * X_r * ds(INTERFACE)
+force_z = -traction[2] * X_r * ds(INTERFACE)
 
 # The power the air's stress delivers to the solid [W = N mm/ms] (meshed part).
-traction_power = -dot(traction, u) * ds(INTERFACE)
+traction_power = -dot(traction, section.vector(u, dimension)) * X_r * ds(INTERFACE)  # noqa: F821
 
 forms = [R, J, J_mesh, force_x, force_y, force_z, traction_power]
 mesh_jacobian = det(F)
-expressions = [(mesh_jacobian, [[0.25, 0.25, 0.25]])]
+expressions = [(mesh_jacobian, [[0.25, 0.25, 0.25] if dimension == "3d"  # noqa: F821
+                                else [1.0 / 3.0, 1.0 / 3.0]])]

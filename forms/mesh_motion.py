@@ -20,31 +20,40 @@ are stiffer and deform less, and the large ones take up the motion.
 chi = 0 switches the stiffening off; Stein et al. recommend chi of about
 1. `scale` [MPa] makes the rows forces [N], as the other blocks' rows.
 
+On a section (`dimension`, section.py) the extension is the same planar
+problem on the section's triangles (J_e twice the cell's area), not
+weighted by r: any smooth extension that keeps the cells valid serves,
+and the air's ALE form is exact for whatever motion it gives; an
+axisymmetric section holds d_r = 0 on the axis, and takes the plane
+kernels (CMake builds "3d" and "plane").
+
 Reference: K. Stein, T. E. Tezduyar, R. Benney, Mesh moving techniques for
 fluid-structure interactions with large displacements, J. Appl. Mech. 70
 (2003) 58-63, eq. (9)-(11); docs/physics.md section 8.
 """
 from ufl import (Coefficient, Constant, JacobianDeterminant, Measure, TestFunction,
-                 TrialFunction, VectorElement, derivative, div, grad, inner, sym,
-                 tetrahedron)
+                 TrialFunction, VectorElement, derivative, div, grad, inner, sym)
+
+import section
 
 # Cell tag of the moving region, shared with cpp/mesh_motion.
 MOVING = 1
 
-element = VectorElement("Lagrange", tetrahedron, 1)
+cell = section.cell(dimension)  # noqa: F821 (set by the wrapper)
+element = VectorElement("Lagrange", cell, 1)
 v = TestFunction(element)
 dd = TrialFunction(element)
 d = Coefficient(element)           # mesh displacement [mm]
 
-scale = Constant(tetrahedron)      # [MPa]
-reference_jacobian = Constant(tetrahedron)  # J_0 [mm^3]
-chi = Constant(tetrahedron)        # stiffening power [-]
-poisson_ratio = Constant(tetrahedron)  # nu_m of the elastic extension [-]
+scale = Constant(cell)      # [MPa]
+reference_jacobian = Constant(cell)  # J_0 [mm^3; a section's mm^2]
+chi = Constant(cell)        # stiffening power [-]
+poisson_ratio = Constant(cell)  # nu_m of the elastic extension [-]
 
 # The integrands are constant per cell: one point is exact.
 dx = Measure("dx", metadata={"quadrature_degree": 1})
 
-k = scale * (reference_jacobian / abs(JacobianDeterminant(tetrahedron)))**chi
+k = scale * (reference_jacobian / abs(JacobianDeterminant(cell)))**chi
 
 
 def harmonic(d, v):

@@ -49,9 +49,20 @@ Vignon-Clementel, A. L. Marsden, Comput. Mech. 48 (2011) 277-291; J. Donea,
 A. Huerta, J.-Ph. Ponthot, A. Rodriguez-Ferran, Arbitrary Lagrangian-Eulerian
 methods, Encyclopedia of Computational Mechanics, Wiley 2004, sec. 3
 (the ALE equations on the reference mesh); docs/physics.md section 8.
+
+On a section (section.py, `dimension`), velocities, gradients, stresses
+and normals are the 3D ones, padded: an axisymmetric section's velocity
+gradient has the hoop entry u_r/r (r the current radius), so div u =
+du_r/dr + u_r/r + du_z/dz and the viscous stress has eps_thth = u_r/r;
+the convective hoop terms vanish without swirl. The strong momentum
+residual keeps the viscous hoop terms, -2 mu [(eps_rr - eps_thth)/r,
+eps_rz/r], which do not vanish for a linear velocity (docs/physics.md
+section 21). The stabilisation's metric is the section's own (2D).
 """
-from ufl import (Identity, JacobianInverse, as_vector, det, dot, grad, inner, inv, min_value,
-                 sqrt, sym, tr)
+from ufl import (Identity, JacobianInverse, SpatialCoordinate, as_matrix, as_vector, det, dot,
+                 grad, inner, inv, min_value, sqrt, sym, tr)
+
+import section
 
 # Constants of the stabilisation parameter tau_M (Bazilevs et al. 2007):
 # C_t for the time step, C_I of the inverse estimate for linear tetrahedra.
@@ -68,33 +79,50 @@ def tau(a, rho, mu, inv_time, K):
     """tau_M [ms] and tau_C [mm^2/ms] from the cell metric K = dxi/dx (Bazilevs et al. 2007),
     with inv_time = 1/T."""
     G = K.T * K
-    g = as_vector([K[0, j] + K[1, j] + K[2, j] for j in range(3)])
+    n = K.ufl_shape[0]
+    g = as_vector([K[0, j] + K[1, j] + K[2, j] if n == 3 else K[0, j] + K[1, j]
+                   for j in range(n)])
     nu = mu / rho
     tau_m = 1.0 / sqrt(C_t * inv_time**2 + dot(a, G * a) + C_I * nu**2 * inner(G, G))
     tau_c = 1.0 / (tau_m * dot(g, g))
     return tau_m, tau_c
 
 
-def _residual(grad_x, u, p, v, q, dudt, a, tau_m, tau_c, rho, mu, continuity_scale):
-    """The stabilised integrand with the current gradient grad_x (per unit current volume).
+def _residual(grad_x, u, p, v, q, dudt, a, tau_m, tau_c, rho, mu, continuity_scale,
+              dimension, r=None):
+    """The stabilised integrand with the current gradient grad_x (3D:
+    3x3 for a vector, a 3-vector for a scalar; per unit current volume);
+    r the current radius of an axisymmetric section.
 
     The strong momentum residual r_M = rho (du/dt + grad(u) a) + grad p
     leaves out -mu lap u: it vanishes for the piecewise linear velocity of
     the built element on affine cells, fixed or moved by a piecewise
-    linear d.
+    linear d; except, axisymmetric, its hoop terms (above).
     """
     grad_u = grad_x(u)
     div_u = tr(grad_u)
-    r_m = rho * (dudt + grad_u * a) + grad_x(p)
-    galerkin = (rho * inner(dudt + grad_u * a, v) + inner(stress(grad_u, p, mu), grad_x(v))
+    v3, a3, dudt3 = (section.vector(f, dimension) for f in (v, a, dudt))
+    r_m = rho * (dudt3 + grad_u * a3) + grad_x(p)
+    if dimension == "axisymmetric":
+        eps = sym(grad_u)
+        r_m = r_m - 2.0 * mu * as_vector([(eps[0, 0] - eps[2, 2]) / r, eps[1, 0] / r, 0.0])
+    galerkin = (rho * inner(dudt3 + grad_u * a3, v3) + inner(stress(grad_u, p, mu), grad_x(v))
                 + continuity_scale * q * div_u)                      # inertia, stress, continuity
-    supg = tau_m * inner(grad_x(v) * a, r_m)                           # streamline upwinding
+    supg = tau_m * inner(grad_x(v) * a3, r_m)                          # streamline upwinding
     pspg = continuity_scale * tau_m / rho * inner(grad_x(q), r_m)      # pressure stabilisation
     lsic = rho * tau_c * div_u * tr(grad_x(v))                         # grad-div
     return galerkin + supg + pspg + lsic
 
 
-def cell_residual(u, p, v, q, dudt, w, u_tau, rho, mu, inv_time, cell, continuity_scale):
+def gradient(f, dimension):
+    """Grad f (3D, section.py): 3x3 for a vector, a 3-vector for a scalar."""
+    if f.ufl_shape == ():
+        return section.vector(grad(f), dimension)
+    return section.gradient(f, dimension)
+
+
+def cell_residual(u, p, v, q, dudt, w, u_tau, rho, mu, inv_time, cell, continuity_scale,
+                  dimension="3d"):
     """The stabilised residual's cell integrand on the current mesh, tested with (v, q).
 
     The parameters tau are taken at the velocity u_tau (the last time
@@ -106,37 +134,47 @@ def cell_residual(u, p, v, q, dudt, w, u_tau, rho, mu, inv_time, cell, continuit
     that they too are forces [N]: one residual norm for both equations.
     """
     tau_m, tau_c = tau(u_tau - w, rho, mu, inv_time, JacobianInverse(cell))
-    return _residual(grad, u, p, v, q, dudt, u - w, tau_m, tau_c, rho, mu, continuity_scale)
+    if dimension == "3d":
+        return _residual(grad, u, p, v, q, dudt, u - w, tau_m, tau_c, rho, mu, continuity_scale,
+                         dimension)
+    return _residual(lambda f: gradient(f, dimension), u, p, v, q, dudt, u - w, tau_m, tau_c,
+                     rho, mu, continuity_scale, dimension, SpatialCoordinate(cell)[0])
 
 
 def cell_residual_ale(u, p, v, q, dudt, w, F, u_tau, w_tau, F_tau, rho, mu, inv_time, cell,
-                      continuity_scale):
+                      continuity_scale, dimension="3d", r=None):
     """The same residual on the reference mesh, per unit reference volume.
 
-    F = I + Grad d maps the reference mesh onto the current one; w is the
-    mesh velocity. tau is lagged like the velocity: taken at the last time
-    step's velocity u_tau, mesh velocity w_tau and mesh map F_tau, with the
-    current cell metric K = dxi/dX F_tau^-1.
+    F = I + Grad d (3x3) maps the reference mesh onto the current one; w is
+    the mesh velocity; r the current radius (axisymmetric). tau is lagged
+    like the velocity: taken at the last time step's velocity u_tau, mesh
+    velocity w_tau and mesh map F_tau, with the current cell metric
+    K = dxi/dX F_tau^-1 (a section's: the in-plane block of F_tau).
     """
     F_inv = inv(F)
 
     def grad_x(f):
-        return dot(grad(f), F_inv)
+        return dot(grad(f) if dimension == "3d" else gradient(f, dimension), F_inv)
 
-    tau_m, tau_c = tau(u_tau - w_tau, rho, mu, inv_time, JacobianInverse(cell) * inv(F_tau))
+    F_tau_plane = F_tau if dimension == "3d" else as_matrix(
+        [[F_tau[0, 0], F_tau[0, 1]], [F_tau[1, 0], F_tau[1, 1]]])
+    tau_m, tau_c = tau(u_tau - w_tau, rho, mu, inv_time,
+                       JacobianInverse(cell) * inv(F_tau_plane))
     return det(F) * _residual(grad_x, u, p, v, q, dudt, u - w, tau_m, tau_c, rho, mu,
-                              continuity_scale)
+                              continuity_scale, dimension, r)
 
 
-def wall_traction(u, p, mu, F, N):
+def wall_traction(u, p, mu, F, N, dimension="3d"):
     """Traction sigma n da of the air on its boundary, per unit reference area (Nanson).
 
     sigma n da = sigma J F^-T N dA with N the reference outward normal of
     the air: the force the air receives from beyond its boundary is
-    sigma n; the solid there receives the opposite.
+    sigma n; the solid there receives the opposite. On a section F and N
+    are 3D (padded).
     """
     F_inv = inv(F)
-    return stress(dot(grad(u), F_inv), p, mu) * det(F) * F_inv.T * N
+    grad_u = grad(u) if dimension == "3d" else gradient(u, dimension)
+    return stress(dot(grad_u, F_inv), p, mu) * det(F) * F_inv.T * N
 
 
 def backflow(u, v, w, n, rho, beta):

@@ -12,7 +12,11 @@
 #include <dolfinx/la/petsc.h>
 
 #include "air_ale_p1_full.h"
+#include "air_ale_p1_full_axisymmetric.h"
+#include "air_ale_p1_full_plane.h"
 #include "air_p1_full.h"
+#include "air_p1_full_axisymmetric.h"
+#include "air_p1_full_plane.h"
 
 namespace nct::air
 {
@@ -23,13 +27,51 @@ using namespace dolfinx;
 /// Facet tags of the outlet and the interface in forms/air.py and forms/air_ale.py.
 constexpr std::int32_t outlet_tag = 1, interface_tag = 2;
 
+/// The compiled kernels of forms/air.py (fixed mesh) and forms/air_ale.py
+/// (moving) for one dimension.
+struct Kernels
+{
+  ufcx_function_space* (*space)(const char*);
+  ufcx_form *R, *J;
+  ufcx_function_space* (*space_ale)(const char*);
+  ufcx_form *R_ale, *J_ale, *J_mesh, *force_x, *force_y, *force_z, *traction_power;
+  ufcx_expression* mesh_jacobian;
+};
+
+#define NCT_AIR_KERNELS(d)                                                                 \
+  Kernels{functionspace_form_air_p1_full##d##_R, form_air_p1_full##d##_R,                  \
+          form_air_p1_full##d##_J, functionspace_form_air_ale_p1_full##d##_R,               \
+          form_air_ale_p1_full##d##_R, form_air_ale_p1_full##d##_J,                         \
+          form_air_ale_p1_full##d##_J_mesh, form_air_ale_p1_full##d##_force_x,              \
+          form_air_ale_p1_full##d##_force_y, form_air_ale_p1_full##d##_force_z,             \
+          form_air_ale_p1_full##d##_traction_power,                                        \
+          expression_air_ale_p1_full##d##_mesh_jacobian}
+
+Kernels kernels(section::Dimension d)
+{
+  switch (d)
+  {
+  case section::Dimension::axisymmetric:
+    return NCT_AIR_KERNELS(_axisymmetric);
+  case section::Dimension::plane:
+    return NCT_AIR_KERNELS(_plane);
+  default:
+    return NCT_AIR_KERNELS();
+  }
+}
+
 } // namespace
 
 Problem::Problem(const meshio::Tagged& m, const Fluid& fluid, const Boundaries& boundaries,
-                 double velocity_scale, std::shared_ptr<fem::Function<double>> mesh_displacement)
-    : d(std::move(mesh_displacement))
+                 double velocity_scale, std::shared_ptr<fem::Function<double>> mesh_displacement,
+                 section::Dimension dimension)
+    : d(std::move(mesh_displacement)), _gdim(section::mesh_dimension(dimension))
 {
-  const auto space = moving() ? functionspace_form_air_ale_p1_full_R : functionspace_form_air_p1_full_R;
+  if (m.mesh->geometry().dim() != _gdim)
+    throw std::invalid_argument("a " + section::name(dimension) + " air needs a mesh of "
+                                + std::to_string(_gdim) + " dimensions");
+  const Kernels k = kernels(dimension);
+  const auto space = moving() ? k.space_ale : k.space;
   auto W = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(space, "up", m.mesh));
   auto Wm = std::make_shared<fem::FunctionSpace>(
       fem::create_functionspace(space, moving() ? "w_n" : "w", m.mesh));
@@ -90,41 +132,41 @@ Problem::Problem(const meshio::Tagged& m, const Fluid& fluid, const Boundaries& 
   };
   if (moving())
   {
-    _R = form(*form_air_ale_p1_full_R, {W});
-    _J = form(*form_air_ale_p1_full_J, {W, W});
-    _J_mesh = form(*form_air_ale_p1_full_J_mesh, {W, d->function_space()});
-    _force = {form(*form_air_ale_p1_full_force_x, {}), form(*form_air_ale_p1_full_force_y, {}),
-              form(*form_air_ale_p1_full_force_z, {})};
-    _traction_power = form(*form_air_ale_p1_full_traction_power, {});
-    _mesh_jacobian = std::make_shared<fem::Expression<double>>(fem::create_expression<double>(
-        *expression_air_ale_p1_full_mesh_jacobian, coeffs, {}, m.mesh));
+    _R = form(*k.R_ale, {W});
+    _J = form(*k.J_ale, {W, W});
+    _J_mesh = form(*k.J_mesh, {W, d->function_space()});
+    _force = {form(*k.force_x, {}), form(*k.force_y, {}), form(*k.force_z, {})};
+    _traction_power = form(*k.traction_power, {});
+    _mesh_jacobian = std::make_shared<fem::Expression<double>>(
+        fem::create_expression<double>(*k.mesh_jacobian, coeffs, {}, m.mesh));
   }
   else
   {
-    _R = form(*form_air_p1_full_R, {W});
-    _J = form(*form_air_p1_full_J, {W, W});
+    _R = form(*k.R, {W});
+    _J = form(*k.J, {W, W});
   }
-  for (const ufcx_form* f : moving() ? std::vector{form_air_ale_p1_full_R, form_air_ale_p1_full_J}
-                                     : std::vector{form_air_p1_full_R, form_air_p1_full_J})
+  for (const ufcx_form* f : moving() ? std::vector{k.R_ale, k.J_ale} : std::vector{k.R, k.J})
     _forms_signature += std::string(f->signature) + " ";
 
   // Dirichlet conditions: the inlet first, so that walls win on its rim.
   auto W0 = W->sub({0});
+  const int fdim = _gdim - 1;
   for (auto g : boundaries.inlet)
   {
-    auto dofs = fem::locate_dofs_topological({*W0, *Vp}, 2, m.facets->find(g));
+    auto dofs = fem::locate_dofs_topological({*W0, *Vp}, fdim, m.facets->find(g));
     _bcs.push_back(std::make_shared<fem::DirichletBC<double>>(_inlet, std::move(dofs), W0));
   }
   // Components: dolfinx 0.5 cannot take W.sub(0).sub(2) of this mixed
   // space, so the velocity's dofs are found whole and filtered by
-  // component (the collapsed space's dofs are unrolled, 3 per node).
+  // component (the collapsed space's dofs are unrolled, gdim per node).
   auto zero = std::make_shared<fem::Function<double>>(Vp);
   for (auto& [g, components] : boundaries.zero)
   {
-    auto all = fem::locate_dofs_topological({*W0, *Vp}, 2, m.facets->find(g));
+    auto all = fem::locate_dofs_topological({*W0, *Vp}, fdim, m.facets->find(g));
     std::array<std::vector<std::int32_t>, 2> dofs;
     for (std::size_t j = 0; j < all[0].size(); ++j)
-      if (std::find(components.begin(), components.end(), all[1][j] % 3) != components.end())
+      if (std::find(components.begin(), components.end(), all[1][j] % _gdim)
+          != components.end())
       {
         dofs[0].push_back(all[0][j]);
         dofs[1].push_back(all[1][j]);
@@ -139,10 +181,10 @@ void Problem::set_inlet(
   const std::vector<double> x
       = _inlet_shape->function_space()->tabulate_dof_coordinates(false);
   auto values = _inlet_shape->x()->mutable_array();
-  for (std::size_t i = 0; i < values.size() / 3; ++i)
+  for (std::size_t i = 0; i < values.size() / _gdim; ++i)
   {
     const auto v = shape({x[3 * i], x[3 * i + 1], x[3 * i + 2]});
-    std::copy(v.begin(), v.end(), values.begin() + 3 * i);
+    std::copy_n(v.begin(), _gdim, values.begin() + _gdim * i);
   }
 }
 
@@ -294,13 +336,13 @@ Problem::wall_dofs(const std::vector<std::int32_t>& groups) const
   std::sort(facets.begin(), facets.end());
   facets.erase(std::unique(facets.begin(), facets.end()), facets.end());
   auto W0 = up->function_space()->sub({0});
-  auto dofs = fem::locate_dofs_topological({*W0, *velocity->function_space()}, 2, facets);
+  auto dofs = fem::locate_dofs_topological({*W0, *velocity->function_space()}, _gdim - 1, facets);
   const auto& map = *up->function_space()->dofmap()->index_map;
   const std::int32_t owned = map.size_local() * up->function_space()->dofmap()->index_map_bs();
   std::vector<std::array<std::int32_t, 2>> wall;
   for (std::size_t j = 0; j < dofs[0].size(); ++j)
     if (dofs[0][j] < owned)
-      wall.push_back({dofs[0][j], dofs[1][j] % 3});
+      wall.push_back({dofs[0][j], dofs[1][j] % _gdim});
   return wall;
 }
 
@@ -320,7 +362,7 @@ std::array<double, 3> Problem::force_on(const std::vector<std::array<std::int32_
 std::pair<double, std::array<double, 3>> Problem::smallest_mesh_jacobian() const
 {
   const auto& mesh = *up->function_space()->mesh();
-  const std::int32_t n = mesh.topology().index_map(3)->size_local();
+  const std::int32_t n = mesh.topology().index_map(_gdim)->size_local();
   std::vector<std::int32_t> cells(n);
   std::iota(cells.begin(), cells.end(), 0);
   struct Table
@@ -347,7 +389,7 @@ std::pair<double, std::array<double, 3>> Problem::smallest_mesh_jacobian() const
   if (worst >= 0)
     for (auto node : mesh.geometry().dofmap().links(worst))
       for (int j = 0; j < 3; ++j)
-        place[j] += mesh.geometry().x()[3 * node + j] / 4;
+        place[j] += mesh.geometry().x()[3 * node + j] / (_gdim + 1);
   MPI_Allreduce(&mine, &best, 1, MPI_DOUBLE_INT, MPI_MINLOC, mesh.comm());
   MPI_Bcast(place.data(), 3, MPI_DOUBLE, best.rank, mesh.comm());
   return {best.value, place};

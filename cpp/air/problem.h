@@ -22,6 +22,7 @@
 
 #include "io/checkpoint.h"
 #include "meshio/model.h"
+#include "section/section.h"
 
 namespace nct::air
 {
@@ -69,9 +70,11 @@ public:
   /// `velocity_scale` [mm/ms]: a typical speed, which makes the continuity
   /// rows forces like the momentum rows (continuity_scale = rho U).
   /// `d`: the mesh displacement (P1 vector on the mesh) of the moving
-  /// formulation, or null for the fixed one.
+  /// formulation, or null for the fixed one. `dimension`: 3D, or the
+  /// section (forms/section.py) a 2D mesh stands for.
   Problem(const meshio::Tagged& m, const Fluid& fluid, const Boundaries& boundaries,
-          double velocity_scale, std::shared_ptr<dolfinx::fem::Function<double>> d = nullptr);
+          double velocity_scale, std::shared_ptr<dolfinx::fem::Function<double>> d = nullptr,
+          section::Dimension dimension = section::Dimension::three);
 
   /// The inlet velocity: `shape(x)` per inlet point, times `scale` (set
   /// per step by set_inlet_scale).
@@ -146,6 +149,7 @@ public:
   std::pair<double, std::array<double, 3>> smallest_mesh_jacobian() const;
 
 private:
+  int _gdim = 3; ///< the mesh's dimension
   std::shared_ptr<dolfinx::fem::Form<double>> _R, _J, _J_mesh;
   std::array<std::shared_ptr<dolfinx::fem::Form<double>>, 3> _force;
   std::shared_ptr<dolfinx::fem::Form<double>> _traction_power;

@@ -11,6 +11,7 @@
 #include <petscksp.h>
 
 #include "mesh_motion_p1_full.h"
+#include "mesh_motion_p1_full_plane.h"
 #include "solver/monolithic.h"
 
 namespace nct::mesh_motion
@@ -71,7 +72,12 @@ Problem::Problem(const meshio::Tagged& m, const Settings& settings, const Bounda
     throw std::invalid_argument("mesh_motion: model \"" + settings.model
                                 + "\" is not \"harmonic\" or \"elastic\"");
   const bool harmonic = settings.model == "harmonic";
-  const auto space = functionspace_form_mesh_motion_p1_full_R_harmonic;
+  // A section's extension is the planar one, axisymmetric or plane
+  // (forms/mesh_motion.py).
+  const int gdim = m.mesh->geometry().dim();
+  const bool plane = gdim == 2;
+  const auto space = plane ? functionspace_form_mesh_motion_p1_full_plane_R_harmonic
+                           : functionspace_form_mesh_motion_p1_full_R_harmonic;
   auto D = std::make_shared<fem::FunctionSpace>(fem::create_functionspace(space, "d", m.mesh));
   d = std::make_shared<fem::Function<double>>(D);
   d->name = "air_mesh_displacement";
@@ -86,7 +92,7 @@ Problem::Problem(const meshio::Tagged& m, const Settings& settings, const Bounda
   const std::vector<double> X = D->tabulate_dof_coordinates(false);
   std::vector<double> on_interface;
   for (auto g : boundaries.interface)
-    for (auto b : fem::locate_dofs_topological(*D, 2, m.facets->find(g)))
+    for (auto b : fem::locate_dofs_topological(*D, gdim - 1, m.facets->find(g)))
     {
       for (int k = 0; k < bs; ++k)
         _interface[bs * b + k] = 1;
@@ -100,15 +106,16 @@ Problem::Problem(const meshio::Tagged& m, const Settings& settings, const Bounda
     if (moves[b])
       _active.push_back(b);
   for (auto& [g, components] : boundaries.fixed)
-    for (auto b : fem::locate_dofs_topological(*D, 2, m.facets->find(g)))
+    for (auto b : fem::locate_dofs_topological(*D, gdim - 1, m.facets->find(g)))
       if (moves[b])
         for (int k : components)
-          _fixed[bs * b + k] = 1;
+          if (k < bs)
+            _fixed[bs * b + k] = 1;
 
   // Moving cells: those with a moving node. J_0: the smallest of their
   // Jacobian determinants, so that k <= scale.
   const auto& mesh = *m.mesh;
-  const std::int32_t cells = mesh.topology().index_map(3)->size_local();
+  const std::int32_t cells = mesh.topology().index_map(gdim)->size_local();
   const auto& x = mesh.geometry().x();
   std::vector<std::int32_t> moving_cells;
   double smallest = std::numeric_limits<double>::infinity();
@@ -119,8 +126,10 @@ Problem::Problem(const meshio::Tagged& m, const Settings& settings, const Bounda
       continue;
     moving_cells.push_back(c);
     auto g = mesh.geometry().dofmap().links(c);
-    std::array<std::array<double, 3>, 3> e;
-    for (int i = 0; i < 3; ++i)
+    // The edges from the first vertex; a triangle's third is e_z.
+    std::array<std::array<double, 3>, 3> e{};
+    e[2][2] = 1;
+    for (int i = 0; i < gdim; ++i)
       for (int j = 0; j < 3; ++j)
         e[i][j] = x[3 * g[i + 1] + j] - x[3 * g[0] + j];
     const double det = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1])
@@ -130,7 +139,7 @@ Problem::Problem(const meshio::Tagged& m, const Settings& settings, const Bounda
   }
   MPI_Allreduce(MPI_IN_PLACE, &smallest, 1, MPI_DOUBLE, MPI_MIN, mesh.comm());
   _moving = std::make_shared<mesh::MeshTags<std::int32_t>>(
-      m.mesh, 3, moving_cells, std::vector<std::int32_t>(moving_cells.size(), moving_tag));
+      m.mesh, gdim, moving_cells, std::vector<std::int32_t>(moving_cells.size(), moving_tag));
 
   for (auto [name, value] : {std::pair{"scale", settings.scale},
                              std::pair{"reference_jacobian", std::isfinite(smallest) ? smallest : 1.0},
@@ -146,10 +155,24 @@ Problem::Problem(const meshio::Tagged& m, const Settings& settings, const Bounda
     return std::make_shared<fem::Form<double>>(
         fem::create_form<double>(form, V, {{"d", d}}, constants, subdomains));
   };
-  _R = make(harmonic ? *form_mesh_motion_p1_full_R_harmonic : *form_mesh_motion_p1_full_R_elastic,
-            {D});
-  _J = make(harmonic ? *form_mesh_motion_p1_full_J_harmonic : *form_mesh_motion_p1_full_J_elastic,
-            {D, D});
+  if (plane)
+  {
+    _R = make(harmonic ? *form_mesh_motion_p1_full_plane_R_harmonic
+                       : *form_mesh_motion_p1_full_plane_R_elastic,
+              {D});
+    _J = make(harmonic ? *form_mesh_motion_p1_full_plane_J_harmonic
+                       : *form_mesh_motion_p1_full_plane_J_elastic,
+              {D, D});
+  }
+  else
+  {
+    _R = make(harmonic ? *form_mesh_motion_p1_full_R_harmonic
+                       : *form_mesh_motion_p1_full_R_elastic,
+              {D});
+    _J = make(harmonic ? *form_mesh_motion_p1_full_J_harmonic
+                       : *form_mesh_motion_p1_full_J_elastic,
+              {D, D});
+  }
 }
 
 void Problem::residual(la::Vector<double>& b)
@@ -167,18 +190,19 @@ void Problem::residual(la::Vector<double>& b)
 void Problem::extend(const std::vector<std::pair<std::int32_t, std::array<double, 3>>>& g)
 {
   auto D = d->function_space();
+  const int bs = D->dofmap()->index_map_bs();
   auto values = d->x()->mutable_array();
   std::fill(values.begin(), values.end(), 0.0);
   for (auto& [b, v] : g)
-    for (int k = 0; k < 3; ++k)
-      if (_interface[3 * b + k] && !_fixed[3 * b + k])
-        values[3 * b + k] = v[k];
+    for (int k = 0; k < bs; ++k)
+      if (_interface[bs * b + k] && !_fixed[bs * b + k])
+        values[bs * b + k] = v[k];
   d->x()->scatter_fwd();
 
   // One Newton step of the linear problem, the boundary rows held.
   solver::Monolithic system(d->function_space()->mesh()->comm(),
                             {{"mesh_motion", d, _active}});
-  solver::BlockIndices indices{system.global(0), system.global(0), {}, 3, 3};
+  solver::BlockIndices indices{system.global(0), system.global(0), {}, bs, bs};
   std::vector<std::int64_t> held;
   for (std::size_t i = 0; i < _fixed.size(); ++i)
     if (_fixed[i] || _interface[i])
@@ -199,7 +223,7 @@ void Problem::extend(const std::vector<std::pair<std::int32_t, std::array<double
   MatAssemblyBegin(A.mat(), MAT_FINAL_ASSEMBLY);
   MatAssemblyEnd(A.mat(), MAT_FINAL_ASSEMBLY);
 
-  la::Vector<double> r(D->dofmap()->index_map, 3);
+  la::Vector<double> r(D->dofmap()->index_map, bs);
   residual(r);
   for (std::size_t i = 0; i < _interface.size(); ++i)
     if (_interface[i] || _fixed[i])

@@ -100,7 +100,8 @@ AirBlock::AirBlock(AirMesh air_mesh, const Settings& s, const air::Fluid& fluid,
                    std::shared_ptr<dolfinx::fem::Function<double>> motion, bool is_eye,
                    bool eye_in_air)
     : mesh(std::move(air_mesh)),
-      problem(mesh.mesh, fluid, boundaries, velocity_scale, std::move(motion)), settings(s),
+      problem(mesh.mesh, fluid, boundaries, velocity_scale, std::move(motion), s.mesh.dimension),
+      settings(s),
       eye(is_eye), with_eye(eye_in_air), _inlet(inlet_speed(s, is_eye))
 {
   problem.set_inlet(inlet_shape(s.air.inlet, mesh, boundaries, is_eye));
@@ -108,7 +109,8 @@ AirBlock::AirBlock(AirMesh air_mesh, const Settings& s, const air::Fluid& fluid,
 
 void AirBlock::describe(nlohmann::json& summary, io::RunFolder& folder) const
 {
-  const std::int64_t cells = mesh.mesh.mesh->topology().index_map(3)->size_global();
+  const auto& topology = mesh.mesh.mesh->topology();
+  const std::int64_t cells = topology.index_map(topology.dim())->size_global();
   const bool alone = !summary.contains("dofs");
   summary[alone ? "cells" : "air_cells"] = cells;
   summary[alone ? "dofs" : "air_dofs"] = problem.dofs();
@@ -119,9 +121,9 @@ void AirBlock::describe(nlohmann::json& summary, io::RunFolder& folder) const
     if (!problem.moving())
       summary["air_eye"] = settings.air.rigid_eye ? "rigid" : "none";
   }
-  folder.log(format("air mesh: %lld tetrahedra (%lld air, %lld eye in the gmsh model), P1/P1, "
+  folder.log(format("air mesh: %lld %s (%lld air, %lld eye in the gmsh model), P1/P1, "
                     "%lld dofs",
-                    (long long)cells, (long long)mesh.air_cells, (long long)mesh.eye_cells,
+                    (long long)cells, topology.dim() == 3 ? "tetrahedra" : "triangles", (long long)mesh.air_cells, (long long)mesh.eye_cells,
                     (long long)problem.dofs()));
 }
 

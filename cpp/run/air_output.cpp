@@ -44,9 +44,10 @@ double max_speed(const dolfinx::fem::Function<double>& u)
 {
   const auto& map = *u.function_space()->dofmap()->index_map;
   auto x = u.x()->array();
+  const int bs = u.x()->bs();
   double m = 0;
   for (std::int32_t i = 0; i < map.size_local(); ++i)
-    m = std::max(m, std::hypot(x[3 * i], x[3 * i + 1], x[3 * i + 2]));
+    m = std::max(m, std::hypot(x[bs * i], x[bs * i + 1], bs == 3 ? x[bs * i + 2] : 0.0));
   MPI_Allreduce(MPI_IN_PLACE, &m, 1, MPI_DOUBLE, MPI_MAX, map.comm());
   return m;
 }
@@ -186,12 +187,18 @@ FlowOutput::FlowOutput(const Settings& settings, io::RunFolder& folder,
   _forces = !groups.empty();
   if (_forces)
     _wall_dofs = air.wall_dofs(groups);
+  // An axisymmetric section's forms are per radian: the whole revolution.
+  _revolution = settings.mesh.dimension == section::Dimension::axisymmetric ? 2 * M_PI : 1.0;
 }
 
 void FlowOutput::measure()
 {
   if (_forces)
+  {
     _force = _air.force_on(_wall_dofs);
+    for (auto& f : _force)
+      f *= _revolution;
+  }
 }
 
 FlowOutput::Sample FlowOutput::sample(double time)

@@ -297,6 +297,8 @@ FluidSide file_fluid_side(const Settings& s, const AirMesh& a)
                          + "' is not a plane x, y or z = const in the fluid");
     f.boundaries.zero.push_back({g, {axis}});
   }
+  for (auto& name : bs.axis) // an axisymmetric section's axis: u_r = 0
+    f.boundaries.zero.push_back({group(m.groups, name), {0}});
   f.boundaries.inlet = tags(bs.inlet);
   f.boundaries.outlet = tags(bs.outlet);
   f.boundaries.interface = tags(bs.interface);
