@@ -411,3 +411,28 @@ TEST(Section, Poiseuille)
     EXPECT_LT(std::abs(inlet_error[1]), std::abs(inlet_error[0]));
   }
 }
+
+// Turek-Hron FSI1 as a plane section (tests/scenes/turek_hron_fsi1_2d.toml,
+// the 3D slab's coarse mesh in 2D): the coupled solver on triangles. The
+// steady tip displacement, drag and lift (per mm of thickness) against
+// the benchmark (Turek and Hron 2006), the interface power balanced.
+TEST(Section, TurekHronFsi1Plane)
+{
+  const auto s = run_scene("tests/scenes/turek_hron_fsi1_2d.toml", "turek_hron_fsi1_2d");
+  ASSERT_EQ(s["status"], "converged");
+  const auto& tip = s["steps"].back()["probe_0_displacement_mm"];
+  const auto& force = s["air"]["force_N"];
+  const double ux = tip[0], uy = tip[1];
+  const double drag = force[0].get<double>() * 1e3, lift = force[1].get<double>() * 1e3; // N/m
+  std::printf("Turek-Hron FSI1, plane (4 mm): tip u_x %.5f mm (0.0227), u_y %.5f mm (0.8209); "
+              "drag %.4f N/m (14.295), lift %.4f N/m (0.7638); %d Newton iterations, %.1f s\n",
+              ux, uy, drag, lift, s["newton_iterations"].get<int>(), s["wall_s"].get<double>());
+  EXPECT_NEAR(ux, 0.0227, 0.03 * 0.0227);
+  EXPECT_NEAR(uy, 0.8209, 0.1 * 0.8209);
+  EXPECT_NEAR(drag, 14.295, 0.02 * 14.295);
+  EXPECT_NEAR(lift, 0.7638, 0.02 * 0.7638);
+  const double power = s["interface_power_max_W"], mismatch = s["interface_power_mismatch_max_W"];
+  EXPECT_GT(power, 0);
+  EXPECT_LT(mismatch, 1e-12 * power);
+  EXPECT_GT(s["air_mesh_jacobian_min"].get<double>(), 0.9);
+}

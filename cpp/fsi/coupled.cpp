@@ -30,8 +30,9 @@ void sum(MPI_Comm comm, std::vector<double>& v)
 std::vector<std::int32_t> group_vertices(const meshio::Tagged& m,
                                          const std::vector<std::int32_t>& groups)
 {
-  m.mesh->topology_mutable().create_connectivity(2, 0);
-  const auto f2v = m.mesh->topology().connectivity(2, 0);
+  const int fdim = m.mesh->topology().dim() - 1;
+  m.mesh->topology_mutable().create_connectivity(fdim, 0);
+  const auto f2v = m.mesh->topology().connectivity(fdim, 0);
   std::set<std::int32_t> vertices;
   for (auto g : groups)
     for (auto f : m.facets->find(g))
@@ -45,10 +46,11 @@ std::pair<std::vector<std::int32_t>, std::vector<Place>>
 vertex_dofs(const fem::FunctionSpace& V, const std::vector<std::int32_t>& vertices)
 {
   auto& mesh = *V.mesh();
-  mesh.topology_mutable().create_connectivity(0, 3);
-  mesh.topology_mutable().create_connectivity(3, 0);
-  const auto v2c = mesh.topology().connectivity(0, 3);
-  const auto c2v = mesh.topology().connectivity(3, 0);
+  const int tdim = mesh.topology().dim();
+  mesh.topology_mutable().create_connectivity(0, tdim);
+  mesh.topology_mutable().create_connectivity(tdim, 0);
+  const auto v2c = mesh.topology().connectivity(0, tdim);
+  const auto c2v = mesh.topology().connectivity(tdim, 0);
   const auto& layout = V.dofmap()->element_dof_layout();
   const auto& x = mesh.geometry().x();
   std::pair<std::vector<std::int32_t>, std::vector<Place>> out;
@@ -75,7 +77,7 @@ Coupled::Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem&
                  const meshio::Tagged& solid_mesh, const meshio::Tagged& air_mesh,
                  const Interface& interface, bool shape_derivative)
     : _solid(solid), _air(air), _motion(motion), _air_mesh(air_mesh.mesh),
-      _shape_derivative(shape_derivative)
+      _shape_derivative(shape_derivative), _gdim(solid_mesh.mesh->geometry().dim())
 {
   if (!air.moving() || air.d != motion.d)
     throw std::invalid_argument("fsi::Coupled: the air must move with the mesh motion's d");
@@ -99,7 +101,7 @@ Coupled::Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem&
   // columns out (their diagonal is set apart), the air's coupled momentum
   // rows onto the solid's, the mesh's interface rows replaced.
   const auto& U = *_unknowns;
-  _solid_block = {U.global(0), U.global(0), {}, 3, 3};
+  _solid_block = {U.global(0), U.global(0), {}, _gdim, _gdim};
   for (std::size_t i = 0; i < _solid_held.size(); ++i)
     if (_solid_held[i])
       _solid_block.rows[i] = _solid_block.cols[i] = -1;
@@ -119,7 +121,7 @@ Coupled::Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem&
       _moved_rows.push_back(i); // scaled by 1 - alpha_f (set_time_step)
     }
   }
-  _mesh_block = {U.global(2), U.global(2), {}, 3, 3};
+  _mesh_block = {U.global(2), U.global(2), {}, _gdim, _gdim};
   for (std::size_t i = 0; i < _motion.fixed().size(); ++i)
   {
     if (_motion.fixed()[i])
@@ -127,7 +129,7 @@ Coupled::Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem&
     if (_motion.fixed()[i] || _motion.interface()[i])
       _mesh_block.rows[i] = -1;
   }
-  _air_mesh_block = {_air_block.rows, _mesh_block.cols, _air_block.row_factor, 1, 3};
+  _air_mesh_block = {_air_block.rows, _mesh_block.cols, _air_block.row_factor, 1, _gdim};
 }
 
 void Coupled::pair(const meshio::Tagged& solid_mesh, const meshio::Tagged& air_mesh,
@@ -135,7 +137,9 @@ void Coupled::pair(const meshio::Tagged& solid_mesh, const meshio::Tagged& air_m
 {
   MPI_Comm comm = solid_mesh.mesh->comm();
   const auto& U = *_unknowns;
-  // Owned interface nodes of each side: place, and the 3 global indices.
+  // Owned interface nodes of each side: place, and 3 global indices (-1
+  // for a section's third component).
+  const int g = _gdim;
   std::vector<double> solid_places, air_places, mesh_places;
   std::vector<std::int64_t> solid_globals, air_globals, mesh_globals;
   std::map<Place, std::int32_t> solid_local, mesh_local;
@@ -151,7 +155,7 @@ void Coupled::pair(const meshio::Tagged& solid_mesh, const meshio::Tagged& air_m
       continue;
     solid_places.insert(solid_places.end(), solid_at[i].begin(), solid_at[i].end());
     for (int k = 0; k < 3; ++k)
-      solid_globals.push_back(_solid_held[3 * b + k] ? -1 : U.global(0)[3 * b + k]);
+      solid_globals.push_back(k >= g || _solid_held[g * b + k] ? -1 : U.global(0)[g * b + k]);
     solid_local[solid_at[i]] = b;
   }
 
@@ -165,11 +169,12 @@ void Coupled::pair(const meshio::Tagged& solid_mesh, const meshio::Tagged& air_m
     if (b >= velocity_owned)
       continue;
     air_places.insert(air_places.end(), air_at[i].begin(), air_at[i].end());
-    std::array<std::int32_t, 3> dofs;
+    std::array<std::int32_t, 3> dofs{-1, -1, -1};
     for (int k = 0; k < 3; ++k)
     {
-      dofs[k] = _air.velocity_dofs()[3 * b + k];
-      air_globals.push_back(_air_held[dofs[k]] ? -1 : U.global(1)[dofs[k]]);
+      if (k < g)
+        dofs[k] = _air.velocity_dofs()[g * b + k];
+      air_globals.push_back(k >= g || _air_held[dofs[k]] ? -1 : U.global(1)[dofs[k]]);
     }
     air_local[air_at[i]] = dofs;
   }
@@ -182,7 +187,7 @@ void Coupled::pair(const meshio::Tagged& solid_mesh, const meshio::Tagged& air_m
       continue;
     mesh_places.insert(mesh_places.end(), mesh_at[i].begin(), mesh_at[i].end());
     for (int k = 0; k < 3; ++k)
-      mesh_globals.push_back(_motion.fixed()[3 * b + k] ? -1 : U.global(2)[3 * b + k]);
+      mesh_globals.push_back(k >= g || _motion.fixed()[g * b + k] ? -1 : U.global(2)[g * b + k]);
     mesh_local[mesh_at[i]] = b;
   }
 
@@ -274,9 +279,9 @@ void Coupled::solid_state(std::vector<double>& u, std::vector<double>& v) const
   v.assign(3 * _nodes.size(), 0.0);
   for (std::size_t n = 0; n < _nodes.size(); ++n)
     if (const std::int32_t b = _nodes[n].solid_block; b >= 0)
-      for (int k = 0; k < 3; ++k)
+      for (int k = 0; k < _gdim; ++k)
       {
-        const std::int32_t i = 3 * b + k;
+        const std::int32_t i = _gdim * b + k;
         u[3 * n + k] = un[i];
         v[3 * n + k] = c[0] * (un[i] - uo[i]) + c[1] * vo[i] + c[2] * ao[i];
       }
@@ -320,12 +325,12 @@ void Coupled::residual(la::Vector<double>& b)
       const std::size_t p = 3 * n + k;
       const bool solid_free = node.solid[k] >= 0;
       if (node.solid_block >= 0 && solid_free && node.air[k] >= 0)
-        bs[3 * node.solid_block + k] += (1 - _alpha_f) * _lambda[p] + _alpha_f * _lambda_n[p];
+        bs[_gdim * node.solid_block + k] += (1 - _alpha_f) * _lambda[p] + _alpha_f * _lambda_n[p];
       if (node.air_dof[k] >= 0 && node.air[k] >= 0)
         bf[node.air_dof[k]] = D_f * (up[node.air_dof[k]] - (solid_free ? v[p] : 0.0));
       if (node.mesh_block >= 0 && node.mesh[k] >= 0)
       {
-        const std::int32_t i = 3 * node.mesh_block + k;
+        const std::int32_t i = _gdim * node.mesh_block + k;
         bm[i] = D_m * (d[i] - (solid_free ? u[p] - _u0[p] : 0.0));
       }
     }
@@ -490,7 +495,7 @@ void Coupled::start()
   for (std::size_t n = 0; n < _nodes.size(); ++n)
     if (const auto b = _nodes[n].solid_block; b >= 0)
       for (int k = 0; k < 3; ++k)
-        place[3 * n + k] = X[3 * b + k] + u[3 * b + k];
+        place[3 * n + k] = X[3 * b + k] + (k < _gdim ? u[_gdim * b + k] : 0.0);
   sum(comm, place);
   // Move the air mesh onto it: the offsets extended into the air.
   std::vector<std::pair<std::int32_t, Place>> offset;
@@ -506,15 +511,16 @@ void Coupled::start()
   const std::vector<double> x_old(x.begin(), x.end());
   const auto& dofmap = *_motion.d->function_space()->dofmap();
   auto d = _motion.d->x()->array();
-  const std::int32_t cells = mesh.topology().index_map(3)->size_local()
-                             + mesh.topology().index_map(3)->num_ghosts();
+  const int tdim = mesh.topology().dim();
+  const std::int32_t cells = mesh.topology().index_map(tdim)->size_local()
+                             + mesh.topology().index_map(tdim)->num_ghosts();
   for (std::int32_t c = 0; c < cells; ++c)
   {
     auto nodes = mesh.geometry().dofmap().links(c);
     auto dofs = dofmap.cell_dofs(c);
     for (std::size_t i = 0; i < nodes.size(); ++i)
-      for (int j = 0; j < 3; ++j)
-        x[3 * nodes[i] + j] = x_old[3 * nodes[i] + j] + d[3 * dofs[i] + j];
+      for (int j = 0; j < _gdim; ++j)
+        x[3 * nodes[i] + j] = x_old[3 * nodes[i] + j] + d[_gdim * dofs[i] + j];
   }
   for (std::size_t n = 0; n < _nodes.size(); ++n)
     for (int k = 0; k < 3; ++k)

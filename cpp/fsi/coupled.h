@@ -147,6 +147,7 @@ private:
   std::shared_ptr<dolfinx::mesh::Mesh> _air_mesh; ///< moved by start()
   bool _shape_derivative;
   std::unique_ptr<solver::Monolithic> _unknowns;
+  int _gdim = 3; ///< the meshes' dimension: a section's nodes have 2 components
   std::vector<Node> _nodes;
   std::vector<std::size_t> _order; ///< the nodes by their places as built
   std::vector<double> _u0;                     ///< u at the start, per node and component

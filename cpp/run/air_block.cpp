@@ -339,7 +339,7 @@ Stepper::Dynamics CouplingBlock::dynamics()
   const double rho_inf = settings.solid.dynamics.rho_inf,
                damping = settings.solid.dynamics.damping;
   const int order = settings.air.bdf_order;
-  const int symmetry = _solid.problem.symmetry_factor();
+  const double symmetry = _solid.problem.symmetry_factor();
   return {[this, rho_inf, damping, order](double dt)
           {
             _step = dt;
@@ -397,7 +397,7 @@ biomarkers::Columns CouplingBlock::at_rest()
           {"interface_power_air_W", 0.0},  {"interface_power_solid_W", 0.0}};
 }
 
-int CouplingBlock::symmetry() const { return _solid.problem.symmetry_factor(); }
+double CouplingBlock::symmetry() const { return _solid.problem.symmetry_factor(); }
 
 CouplingBlock::Energy::State CouplingBlock::energy_state() const
 {

@@ -167,7 +167,7 @@ private:
     State last;                         ///< the last step's
   };
   Energy::State energy_state() const;
-  int symmetry() const;
+  double symmetry() const;
   /// The energy account at a converged, advanced step of length dt.
   void account(double dt, double traction_power);
 

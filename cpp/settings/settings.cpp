@@ -30,7 +30,7 @@ using Errors = scene::Errors;
 using Load = PuffSettings::Load;
 
 /// A 2D section's keys: what it has (an axis) and what it cannot have
-/// (points off its plane, a closed plane cavity, the coupling so far).
+/// (points off its plane, a closed plane cavity).
 void check_section(const scene::Scene& scene, const Settings& s, Errors& e)
 {
   auto at = [&](const std::string& key, const std::string& what) { e.at(scene, key, what); };
@@ -41,9 +41,6 @@ void check_section(const scene::Scene& scene, const Settings& s, Errors& e)
                         "the model is " + name);
   if (d == section::Dimension::three)
     return;
-  if (s.puff.load == Load::fsi)
-    at("puff.load", "key 'puff.load': the coupled run (\"fsi\") on a 2D section is not built "
-                    "yet; " + name + " runs the solid, or the fluid alone (\"air\")");
   if (d == section::Dimension::plane && s.solid.cavity.closed
       && !s.mesh.boundary.cavity_wall.empty())
     at("cavity.model", "key 'cavity.model': a plane section's cavity is a prism of infinite "
