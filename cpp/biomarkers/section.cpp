@@ -45,7 +45,9 @@ Section::Section(const solid::Problem& problem, const std::vector<std::int32_t>&
     : _comm(problem.u->function_space()->mesh()->comm()), _problem(problem)
 {
   const auto& V = *problem.u->function_space();
-  const auto dofs = dolfinx::fem::locate_dofs_topological(V, 2, facets);
+  // A 2D mesh is the eye's meridian section: the plane z = 0 itself.
+  const auto dofs
+      = dolfinx::fem::locate_dofs_topological(V, V.mesh()->topology().dim() - 1, facets);
   const std::vector<double> X = V.tabulate_dof_coordinates(false);
   const std::int32_t owned = V.dofmap()->index_map->size_local();
   std::vector<double> local;
@@ -73,9 +75,10 @@ SectionState Section::sample() const
   // v_old holds the velocity of the last converged step (zero until the
   // dynamics start).
   const auto u = _problem.u->x()->array(), v = _problem.v_old->x()->array();
+  const int bs = _problem.u->x()->bs();
   std::vector<double> local;
   for (std::int32_t d : _nodes)
-    local.insert(local.end(), {u[3 * d], u[3 * d + 1], v[3 * d], v[3 * d + 1]});
+    local.insert(local.end(), {u[bs * d], u[bs * d + 1], v[bs * d], v[bs * d + 1]});
   const std::vector<double> all = meshio::all_gather(_comm, local);
   SectionState s;
   for (std::size_t i : _order)

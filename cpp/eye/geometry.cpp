@@ -844,6 +844,108 @@ void build_eye(const Layout& e, const Refinement& ref)
   }
 }
 
+/// Meshes the eye's meridian section (r, y) as the current gmsh model
+/// "eye" (build_section()): the shell's sweep X(s, t) of the 3D eye on a
+/// 1D chart in s, each (s, t) quadrilateral split into two triangles.
+void build_eye_section(const Layout& e, const Refinement& ref)
+{
+  const std::size_t nl = static_cast<std::size_t>(ref.layers);
+  // The chart: nodes in s, uniform within each piece between the part
+  // bounds and the junction, at the piece's part's size.
+  const std::array<double, 5> bounds{0, e.limbus_begin, e.anterior.junction_s(), e.limbus_end,
+                                     e.anterior.length()};
+  const auto part_at = [&](double s) {
+    return s < e.limbus_begin ? Part::cornea : s < e.limbus_end ? Part::limbus : Part::sclera;
+  };
+  const auto size_of = [&](Part p) {
+    return p == Part::cornea ? ref.size_cornea : p == Part::limbus ? ref.size_limbus
+                                                                   : ref.size_sclera;
+  };
+  std::vector<double> chart{0.0};
+  for (std::size_t i = 0; i + 1 < bounds.size(); ++i) {
+    const double a = bounds[i], b = bounds[i + 1];
+    const auto n = static_cast<std::size_t>(
+        std::max(1.0, std::ceil((b - a) / size_of(part_at((a + b) / 2)) - 1e-9)));
+    for (std::size_t j = 1; j <= n; ++j)
+      chart.push_back(j == n ? b : a + (b - a) * double(j) / double(n));
+  }
+  const std::size_t nc = chart.size();
+
+  // Nodes: tag k nc + j + 1 for chart node j on layer k (k = 0 anterior).
+  std::vector<double> coords;
+  std::vector<std::size_t> tags;
+  for (std::size_t k = 0; k <= nl; ++k)
+    for (std::size_t j = 0; j < nc; ++j) {
+      const Meridian a = e.anterior.at(chart[j]), p = e.posterior.at(e.matched(chart[j]));
+      const double t = double(k) / double(nl);
+      // The axis exactly: r = 0 at the apex on every layer.
+      coords.insert(coords.end(), {j == 0 ? 0.0 : a.r + t * (p.r - a.r), a.y + t * (p.y - a.y),
+                                   0.0});
+      tags.push_back(k * nc + j + 1);
+    }
+  const auto node = [nc](std::size_t k, std::size_t j) { return k * nc + j + 1; };
+
+  // Triangles by part, counter-clockwise in (r, y); boundary segments by
+  // group, in the solid's counter-clockwise sense.
+  std::array<std::vector<std::size_t>, 3> triangles;
+  std::array<std::vector<std::size_t>, group_count> segments;
+  for (std::size_t j = 0; j + 1 < nc; ++j) {
+    const Part part = part_at((chart[j] + chart[j + 1]) / 2);
+    auto& cells = triangles[static_cast<int>(part) - 1];
+    for (std::size_t k = 0; k < nl; ++k) {
+      // s runs down the profile (clockwise in (r, y)), t inwards.
+      const std::size_t a = node(k, j), b = node(k, j + 1), c = node(k + 1, j + 1),
+                        d = node(k + 1, j);
+      cells.insert(cells.end(), {a, d, b, b, d, c});
+    }
+    auto& front = segments[static_cast<int>(part == Part::cornea ? Group::anterior_cornea
+                                                                 : Group::anterior_sclera) - 1];
+    front.insert(front.end(), {node(0, j + 1), node(0, j)});
+    auto& back = segments[static_cast<int>(Group::cavity_wall) - 1];
+    back.insert(back.end(), {node(nl, j), node(nl, j + 1)});
+  }
+  for (std::size_t k = 0; k < nl; ++k) {
+    auto& axis = segments[static_cast<int>(Group::symmetry_x) - 1];
+    axis.insert(axis.end(), {node(k, 0), node(k + 1, 0)});
+    auto& cut = segments[static_cast<int>(Group::fixed) - 1];
+    cut.insert(cut.end(), {node(k + 1, nc - 1), node(k, nc - 1)});
+  }
+
+  gmsh::model::add("eye");
+  gmsh::model::addDiscreteEntity(2, 1);
+  gmsh::model::mesh::addNodes(2, 1, tags, coords);
+  const std::array<std::string, 3> part_names{"cornea", "limbus", "sclera"};
+  std::size_t next = 1;
+  const auto add_elements = [&](int dim, int entity, int type,
+                                const std::vector<std::size_t>& nodes, std::size_t per_element) {
+    std::vector<std::size_t> element_tags(nodes.size() / per_element);
+    for (auto& tag : element_tags)
+      tag = next++;
+    gmsh::model::mesh::addElementsByType(entity, type, element_tags, nodes);
+    (void)dim;
+  };
+  for (int p = 1; p <= 3; ++p) {
+    if (p > 1)
+      gmsh::model::addDiscreteEntity(2, p);
+    add_elements(2, p, 2, triangles[p - 1], 3);
+    gmsh::model::addPhysicalGroup(2, {p}, p);
+    gmsh::model::setPhysicalName(2, p, part_names[p - 1]);
+  }
+  const std::array<std::pair<Group, const char*>, 5> groups{
+      std::pair{Group::anterior_cornea, "anterior_cornea"},
+      {Group::anterior_sclera, "anterior_sclera"},
+      {Group::cavity_wall, "cavity_wall"},
+      {Group::symmetry_x, "axis"},
+      {Group::fixed, "fixed"}};
+  for (auto [group, name] : groups) {
+    const int g = static_cast<int>(group);
+    gmsh::model::addDiscreteEntity(1, g);
+    add_elements(1, g, 1, segments[g - 1], 2);
+    gmsh::model::addPhysicalGroup(1, {g}, g);
+    gmsh::model::setPhysicalName(1, g, name);
+  }
+}
+
 } // namespace
 
 Derived derive(const Geometry& g)
@@ -905,6 +1007,26 @@ void build(const Geometry& g, const Refinement& r)
     build_eye(e, r);
   } catch (const std::string& message) { // gmsh 4.8 throws its last error as a string
     throw std::runtime_error("nct::eye::build: gmsh failed: " + message);
+  }
+}
+
+void build_section(const Geometry& g, const Refinement& r)
+{
+  if (g.internal_structures)
+    throw std::invalid_argument("geometry.internal_structures on an axisymmetric section is not "
+                                "built yet: the eye's section has the cornea, limbus and sclera "
+                                "about one cavity");
+  if (r.layers < 1)
+    reject("mesh.layers", r.layers, "must be >= 1");
+  for (auto [key, h] : {std::pair{"mesh.size_cornea", r.size_cornea},
+                        {"mesh.size_limbus", r.size_limbus}, {"mesh.size_sclera", r.size_sclera}})
+    if (!(h > 0))
+      reject(key, h, "must be > 0");
+  const Layout e = layout(g);
+  try {
+    build_eye_section(e, r);
+  } catch (const std::string& message) { // gmsh 4.8 throws its last error as a string
+    throw std::runtime_error("nct::eye::build_section: gmsh failed: " + message);
   }
 }
 

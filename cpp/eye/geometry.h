@@ -134,4 +134,14 @@ std::array<std::array<double, 3>, 2> fibres(const Geometry& g, Part part,
 /// tetrahedron comes out inverted.
 void build(const Geometry& g, const Refinement& r);
 
+/// Build the eye's meridian section (r = x >= 0, y; an axisymmetric model
+/// of the whole eye) as the current gmsh model, meshed as the 3D eye's
+/// layered shell: `layers` rows of triangles between the anterior and
+/// posterior profiles, the element size along the meridian per part.
+/// Surfaces "cornea", "limbus", "sclera" (tags 1, 2, 3 = Part); curves
+/// "anterior_cornea", "anterior_sclera", "cavity_wall", "axis" (r = 0),
+/// "fixed" (the cut y = cut_y), tags 1, 2, 3, 4, 6. Internal structures
+/// are not built on a section yet (std::invalid_argument).
+void build_section(const Geometry& g, const Refinement& r);
+
 } // namespace nct::eye

@@ -63,15 +63,21 @@ void count_cells(MPI_Comm comm, const meshio::Model& whole,
   MPI_Bcast(&a.eye_cells, 1, MPI_INT64_T, 0, comm);
 }
 
-/// The eye's parts, boundaries, fibres and probes on its distributed mesh.
-MeshSetup eye_setup(meshio::Tagged mesh, const eye::Geometry& g, const eye::Derived& d)
+/// The eye's parts, boundaries, fibres and probes on its distributed mesh
+/// (the quarter eye, or its axisymmetric section).
+MeshSetup eye_setup(meshio::Tagged mesh, const eye::Geometry& g, const eye::Derived& d,
+                    section::Dimension dimension)
 {
   MeshSetup m{std::move(mesh), {}, {}, {}, {}, {}, {}, {}};
   for (auto& [name, tag] : m.mesh.groups.volumes)
     m.parts[tag] = name;
   const auto& gs = m.mesh.groups;
+  const bool section = dimension == section::Dimension::axisymmetric;
   m.boundaries.fixed = {group(gs, "fixed")};
-  m.boundaries.symmetry = {group(gs, "symmetry_x"), group(gs, "symmetry_z")};
+  if (section)
+    m.boundaries.axis = {group(gs, "axis")};
+  else
+    m.boundaries.symmetry = {group(gs, "symmetry_x"), group(gs, "symmetry_z")};
   if (g.internal_structures)
   {
     m.boundaries.cavities = {{group(gs, "aqueous_wall")}, {group(gs, "vitreous_wall")}};
@@ -83,10 +89,12 @@ MeshSetup eye_setup(meshio::Tagged mesh, const eye::Geometry& g, const eye::Deri
     m.cavity_names = {"cavity"};
   }
   // The cut closes the cavity behind (the vitreous, or the one cavity)
-  // with a lid: the quarter disc inside the inner scleral sphere.
+  // with a lid: the quarter disc inside the inner scleral sphere (a
+  // section's: that disc per radian, R^2 / 2).
   const double inner = g.sclera_outer_radius - g.sclera_thickness;
+  const double lid_r2 = inner * inner - g.cut_y * g.cut_y;
   m.boundaries.lids.assign(m.boundaries.cavities.size(), 0.0);
-  m.boundaries.lids.back() = M_PI * (inner * inner - g.cut_y * g.cut_y) / 4;
+  m.boundaries.lids.back() = section ? lid_r2 / 2 : M_PI * lid_r2 / 4;
   m.boundaries.press = {group(gs, "anterior_cornea")};
   m.fibres = [g](const std::string& part, const std::array<double, 3>& X)
   {
@@ -113,10 +121,13 @@ eye_meshes(MPI_Comm comm, const Input& in, bool solid, bool air)
   const eye::Geometry& g = s.mesh.geometry;
   const bool with_eye = solid || s.air.rigid_eye;
   meshio::GmshSession gmsh_session;
+  const section::Dimension dimension = s.mesh.dimension;
   on_rank_0(comm, in, "the eye and the air",
             [&]
             {
-              if (with_eye)
+              if (with_eye && dimension == section::Dimension::axisymmetric)
+                eye::build_section(g, s.mesh.refinement);
+              else if (with_eye)
                 eye::build(g, s.mesh.refinement);
               if (air)
                 air::build(s.air.domain, s.mesh.derived.apex_y, g.cut_y,
@@ -136,12 +147,14 @@ eye_meshes(MPI_Comm comm, const Input& in, bool solid, bool air)
   if (!solid)
     return {std::nullopt, std::move(a)};
   if (!air)
-    return {eye_setup(meshio::distribute(comm, whole), g, s.mesh.derived), std::nullopt};
+    return {eye_setup(meshio::distribute(comm, whole), g, s.mesh.derived, dimension),
+            std::nullopt};
   std::vector<std::int32_t> eye_tags;
   for (auto& [name, tag] : whole.groups.volumes)
     if (tag != static_cast<std::int32_t>(air::Group::volume))
       eye_tags.push_back(tag);
-  return {eye_setup(meshio::distribute(comm, meshio::keep(whole, eye_tags)), g, s.mesh.derived),
+  return {eye_setup(meshio::distribute(comm, meshio::keep(whole, eye_tags)), g, s.mesh.derived,
+                    dimension),
           std::move(a)};
 }
 

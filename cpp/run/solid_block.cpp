@@ -163,8 +163,9 @@ void SolidBlock::open_frames()
     anterior.insert(anterior.end(), f.begin(), f.end());
   }
   // The posterior cornea: the cavities' wall facets that bound cornea cells.
-  m.topology_mutable().create_connectivity(2, 3);
-  const auto f2c = m.topology().connectivity(2, 3);
+  const int tdim = m.topology().dim();
+  m.topology_mutable().create_connectivity(tdim - 1, tdim);
+  const auto f2c = m.topology().connectivity(tdim - 1, tdim);
   std::set<std::int32_t> cornea;
   for (auto& [tag, part] : mesh.parts)
     if (part == "cornea")

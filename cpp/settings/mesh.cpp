@@ -17,10 +17,10 @@ void visit(scene::Visitor& v, MeshSettings& s)
             "the parametric idealised eye, or an external gmsh mesh (mesh.file)"},
            s.source, {{"eye", MeshSettings::Source::eye}, {"file", MeshSettings::Source::file}});
   v.choice({"mesh.dimension", "3d", "", -inf, inf,
-            "the model: 3D, or a 2D section in the plane z = 0 of a file mesh: \"axisymmetric\" "
-            "about the y axis (r = x, z = y; results for the whole body of revolution), "
-            "\"plane\" strain (results per mm of thickness)",
-            on_file},
+            "the model: 3D, or a 2D section in the plane z = 0: \"axisymmetric\" about the y "
+            "axis (r = x, z = y; the eye's meridian section, or a file mesh; results for the "
+            "whole body of revolution), \"plane\" strain (a file mesh; results per mm of "
+            "thickness)"},
            s.dimension,
            {{"3d", section::Dimension::three},
             {"axisymmetric", section::Dimension::axisymmetric},

@@ -41,6 +41,16 @@ void check_section(const scene::Scene& scene, const Settings& s, Errors& e)
                         "the model is " + name);
   if (d == section::Dimension::three)
     return;
+  if (s.mesh.eye() && d == section::Dimension::plane)
+    at("mesh.dimension", "key 'mesh.dimension': the idealised eye is a body of revolution: "
+                         "its section is \"axisymmetric\"; \"plane\" needs a file mesh");
+  if (s.mesh.eye() && s.mesh.geometry.internal_structures)
+    at("geometry.internal_structures", "key 'geometry.internal_structures': the internal "
+                                       "structures are not built on the eye's section yet; "
+                                       "mesh.dimension = \"3d\" has them");
+  if (s.mesh.eye() && (s.puff.load == Load::air || s.puff.load == Load::fsi))
+    at("puff.load", "key 'puff.load': the air about the eye's section is not built yet; "
+                    "mesh.dimension = \"axisymmetric\" takes a prescribed puff");
   if (d == section::Dimension::plane && s.solid.cavity.closed
       && !s.mesh.boundary.cavity_wall.empty())
     at("cavity.model", "key 'cavity.model': a plane section's cavity is a prism of infinite "
@@ -113,6 +123,7 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
         at("material." + part + ".fibre_directions",
            "key 'material." + part + ".fibre_directions': a zero vector has no direction");
   }
+  check_section(scene, s, e);
   if (eye)
     return;
 
@@ -147,7 +158,6 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
   if (load == Load::fsi && !fluids.empty() && fluids.size() == s.materials.size())
     at("material", "key 'material': every volume group is fluid; the coupled run needs a solid "
                    "(the fluid alone: puff.load = \"air\")");
-  check_section(scene, s, e);
   const std::vector<std::pair<const char*, const std::vector<std::string>*>> groups
       = {{"fixed", &b.fixed},   {"symmetry", &b.symmetry}, {"axis", &b.axis},
          {"cavity_wall", &b.cavity_wall},

@@ -119,7 +119,7 @@ std::vector<std::array<double, 3>> carry(const dolfinx::mesh::Mesh& mesh,
   dolfinx::graph::AdjacencyList<std::int32_t> cells(0);
   {
     SwappedGeometry from(mesh, x_from);
-    dolfinx::geometry::BoundingBoxTree tree(mesh, 3, 1e-8);
+    dolfinx::geometry::BoundingBoxTree tree(mesh, mesh.topology().dim(), 1e-8);
     auto candidates = dolfinx::geometry::compute_collisions(tree, p);
     cells = dolfinx::geometry::compute_colliding_cells(mesh, candidates, p);
   }
@@ -133,12 +133,15 @@ std::vector<std::array<double, 3>> carry(const dolfinx::mesh::Mesh& mesh,
     if (c.empty())
       continue;
     auto n = dofmap.links(c[0]);
-    // Solve [a1-a0, a2-a0, a3-a0] l = p - a0 by Cramer's rule.
+    const int nv = static_cast<int>(n.size()); // 4, or a triangle's 3
+    // Solve [a1-a0, a2-a0, a3-a0] l = p - a0 by Cramer's rule (a
+    // triangle's third column e_z: its l3 is the point's z, 0).
     double M[3][3], b[3];
     for (int j = 0; j < 3; ++j)
     {
       for (int k = 0; k < 3; ++k)
-        M[j][k] = x_from[3 * n[k + 1] + j] - x_from[3 * n[0] + j];
+        M[j][k] = k + 1 < nv ? x_from[3 * n[k + 1] + j] - x_from[3 * n[0] + j]
+                             : static_cast<double>(j == 2);
       b[j] = points[i][j] - x_from[3 * n[0] + j];
     }
     auto det = [](double A[3][3])
@@ -149,7 +152,7 @@ std::vector<std::array<double, 3>> carry(const dolfinx::mesh::Mesh& mesh,
     };
     const double d = det(M);
     std::array<double, 4> l{1, 0, 0, 0};
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k + 1 < nv; ++k)
     {
       double Mk[3][3];
       for (int j = 0; j < 3; ++j)
@@ -158,7 +161,7 @@ std::vector<std::array<double, 3>> carry(const dolfinx::mesh::Mesh& mesh,
       l[k + 1] = det(Mk) / d;
       l[0] -= l[k + 1];
     }
-    for (int v = 0; v < 4; ++v)
+    for (int v = 0; v < nv; ++v)
       for (int j = 0; j < 3; ++j)
         sum[4 * i + j] += l[v] * x[3 * n[v] + j];
     sum[4 * i + 3] = 1;
