@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace nct::air
@@ -245,6 +247,159 @@ Surfaces mesh_boundary(const Domain& d, double apex_y, double bottom_y, const Ri
   return out;
 }
 
+/// The eye section's anterior profile (curves 1 and 2: anterior_cornea,
+/// anterior_sclera, eye/geometry.h), its node tags from the apex down to
+/// the cut, with every node's coordinates.
+std::pair<std::vector<std::size_t>, std::map<std::size_t, Vec3>> eye_profile()
+{
+  std::vector<std::size_t> tags;
+  std::vector<double> xyz, uvw;
+  gmsh::model::mesh::getNodes(tags, xyz, uvw, -1, -1, false, false);
+  std::map<std::size_t, Vec3> all;
+  for (std::size_t i = 0; i < tags.size(); ++i)
+    all[tags[i]] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+  std::vector<std::size_t> profile;
+  for (int curve : {1, 2})
+  {
+    std::vector<std::size_t> elements, nodes;
+    gmsh::model::mesh::getElementsByType(1, elements, nodes, curve);
+    profile.insert(profile.end(), nodes.begin(), nodes.end());
+  }
+  std::sort(profile.begin(), profile.end());
+  profile.erase(std::unique(profile.begin(), profile.end()), profile.end());
+  // The meridian profile descends monotonically from the apex to the cut.
+  std::sort(profile.begin(), profile.end(),
+            [&](std::size_t a, std::size_t b) { return all.at(a)[1] > all.at(b)[1]; });
+  std::map<std::size_t, Vec3> x;
+  for (std::size_t n : profile)
+    x[n] = all.at(n);
+  if (profile.size() < 2 || std::abs(x.at(profile.front())[0]) > 1e-12)
+    throw std::runtime_error("nct::air::build_section: the eye's anterior profile does not "
+                             "start on the axis");
+  return {profile, x};
+}
+
+/// The meshed air section: triangles, boundary segments by group (node
+/// pairs), the nodes used and which of them are the eye's.
+struct Section
+{
+  std::vector<std::size_t> triangles;
+  std::map<int, std::vector<std::size_t>> segments;
+  std::map<std::size_t, Vec3> x;
+  std::map<std::size_t, std::size_t> eye; ///< node -> the eye's node at its place
+};
+
+/// Mesh the air's meridian section in a temporary gmsh model with the
+/// geo kernel: the outline of the 3D builder's plane z = 0 (mesh_boundary),
+/// the eye's profile (apex first) a polyline through its nodes, one mesh
+/// edge per segment.
+Section mesh_section(const Domain& d, double apex_y, double bottom_y,
+                     const std::vector<std::size_t>* profile,
+                     const std::map<std::size_t, Vec3>* profile_x,
+                     const std::function<double(double, double, double)>& size)
+{
+  namespace geo = gmsh::model::geo;
+  const meshio::TemporaryModel section_model("air_section");
+  const double y_exit = apex_y + d.nozzle_distance, y_top = y_exit + d.nozzle_length;
+  const double rn = d.nozzle_diameter / 2, ro = d.nozzle_outer_diameter / 2, R = d.radius;
+  std::map<int, std::size_t> eye_point;
+  std::vector<int> points;
+  if (profile)
+    for (std::size_t n : *profile)
+    {
+      const Vec3& p = profile_x->at(n);
+      points.push_back(geo::addPoint(p[0], p[1], 0));
+      eye_point[points.back()] = n;
+    }
+  const int apex = profile ? points.front() : geo::addPoint(0, bottom_y, 0);
+  const int ring = profile ? points.back() : apex;
+  const int centre_top = geo::addPoint(0, y_top, 0), bore_top = geo::addPoint(rn, y_top, 0),
+            bore_exit = geo::addPoint(rn, y_exit, 0), outer_exit = geo::addPoint(ro, y_exit, 0),
+            outer_top = geo::addPoint(ro, y_top, 0), far_top = geo::addPoint(R, y_top, 0),
+            far_bottom = geo::addPoint(R, bottom_y, 0);
+  std::vector<std::pair<int, int>> lines; // (group, line) round the outline
+  auto line = [&](Group g, int a, int b) { lines.emplace_back(static_cast<int>(g), geo::addLine(a, b)); };
+  line(Group::axis, apex, centre_top);
+  line(Group::inlet, centre_top, bore_top);
+  line(Group::nozzle, bore_top, bore_exit);
+  line(Group::nozzle, bore_exit, outer_exit);
+  line(Group::nozzle, outer_exit, outer_top);
+  line(Group::outlet, outer_top, far_top);
+  line(Group::outlet, far_top, far_bottom);
+  line(Group::outlet, far_bottom, ring);
+  std::vector<int> loop;
+  for (auto [g, l] : lines)
+    loop.push_back(l);
+  for (std::size_t i = points.size(); i-- > 1;)
+  {
+    const int l = geo::addLine(points[i], points[i - 1]);
+    geo::mesh::setTransfiniteCurve(l, 2);
+    loop.push_back(l);
+  }
+  const int surface = geo::addPlaneSurface({geo::addCurveLoop(loop)});
+  geo::synchronize();
+
+  meshio::OptionGuard options;
+  options.set("Mesh.MeshSizeFromPoints", 0);
+  options.set("Mesh.MeshSizeFromCurvature", 0);
+  options.set("Mesh.MeshSizeExtendFromBoundary", 0);
+  options.set("Mesh.Optimize", 1);
+  gmsh::model::mesh::setSizeCallback(
+      [&size](int, int, double x, double y, double z) { return size(x, y, z); });
+  struct RemoveCallback
+  {
+    ~RemoveCallback() { gmsh::model::mesh::removeSizeCallback(); }
+  } remove_callback;
+  gmsh::model::mesh::generate(2);
+
+  Section out;
+  std::vector<std::size_t> tags;
+  std::vector<double> xyz, uvw;
+  gmsh::model::mesh::getNodes(tags, xyz, uvw, -1, -1, true, false);
+  std::map<std::size_t, Vec3> all;
+  for (std::size_t i = 0; i < tags.size(); ++i)
+    all[tags[i]] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+  for (auto [point, node] : eye_point)
+  {
+    gmsh::model::mesh::getNodes(tags, xyz, uvw, 0, point, false, false);
+    out.eye[tags.at(0)] = node;
+  }
+  std::vector<std::size_t> elements;
+  gmsh::model::mesh::getElementsByType(2, elements, out.triangles, surface);
+  for (std::size_t n : out.triangles)
+    out.x[n] = all.at(n);
+  for (auto [g, l] : lines)
+  {
+    // Fresh vectors: gmsh 4.8 returns nothing into filled ones here.
+    std::vector<std::size_t> line_elements, nodes;
+    gmsh::model::mesh::getElementsByType(1, line_elements, nodes, l);
+    auto& segments = out.segments[g];
+    segments.insert(segments.end(), nodes.begin(), nodes.end());
+  }
+  return out;
+}
+
+/// The element size of the air (build()): size_nozzle in the bore and a
+/// bore radius beyond its exit; size_jet in a cylinder of jet_radius about
+/// the axis, from the inlet down to below the apex. Each grows by
+/// size_gradation per mm of distance from its region, up to size_far.
+std::function<double(double, double, double)> size_field(const Domain& d, double apex_y)
+{
+  const double y_exit = apex_y + d.nozzle_distance, y_top = y_exit + d.nozzle_length,
+               y_low = apex_y - d.jet_radius, bore = d.nozzle_diameter / 2;
+  // Distance from (r, y) to the cylinder r <= radius, lo <= y <= hi.
+  const auto away = [](double r, double y, double radius, double lo, double hi) {
+    return std::hypot(std::max(0.0, r - radius), std::max({0.0, y - hi, lo - y}));
+  };
+  return [=](double x, double y, double z) {
+    const double r = std::hypot(x, z);
+    const double h = std::min(
+        d.size_nozzle + size_gradation * away(r, y, bore, y_exit - bore, y_top),
+        d.size_jet + size_gradation * away(r, y, d.jet_radius, y_low, y_top));
+    return std::min(d.size_far, h);
+  };
+}
+
 } // namespace
 
 void validate(const Domain& d, double apex_y, double bottom_y, double eye_radius)
@@ -276,23 +431,7 @@ void validate(const Domain& d, double apex_y, double bottom_y, double eye_radius
 void build(const Domain& d, double apex_y, double bottom_y, double eye_radius, bool around_eye)
 {
   validate(d, apex_y, bottom_y, eye_radius);
-  // Size: size_nozzle in the bore and a bore radius beyond its exit;
-  // size_jet in a cylinder of jet_radius about the axis, from the inlet
-  // down to below the apex. Each grows by size_gradation per mm of
-  // distance from its region, up to size_far.
-  const double y_exit = apex_y + d.nozzle_distance, y_top = y_exit + d.nozzle_length,
-               y_low = apex_y - d.jet_radius, bore = d.nozzle_diameter / 2;
-  // Distance from (r, y) to the cylinder r <= radius, lo <= y <= hi.
-  const auto away = [](double r, double y, double radius, double lo, double hi) {
-    return std::hypot(std::max(0.0, r - radius), std::max({0.0, y - hi, lo - y}));
-  };
-  const auto size = [=](double x, double y, double z) {
-    const double r = std::hypot(x, z);
-    const double h = std::min(
-        d.size_nozzle + size_gradation * away(r, y, bore, y_exit - bore, y_top),
-        d.size_jet + size_gradation * away(r, y, d.jet_radius, y_low, y_top));
-    return std::min(d.size_far, h);
-  };
+  const auto size = size_field(d, apex_y);
 
   try
   {
@@ -391,6 +530,81 @@ void build(const Domain& d, double apex_y, double bottom_y, double eye_radius, b
   catch (const std::string& message) // gmsh 4.8 throws its last error as a string
   {
     throw std::runtime_error("nct::air::build: gmsh failed: " + message);
+  }
+}
+
+void build_section(const Domain& d, double apex_y, double bottom_y, double eye_radius,
+                   bool around_eye)
+{
+  validate(d, apex_y, bottom_y, eye_radius);
+  try
+  {
+    meshio::OptionGuard quiet;
+    quiet.set("General.Terminal", 0);
+    std::string model = "air";
+    std::vector<std::size_t> profile;
+    std::map<std::size_t, Vec3> profile_x;
+    if (around_eye)
+    {
+      gmsh::model::getCurrent(model);
+      std::tie(profile, profile_x) = eye_profile();
+    }
+    else
+      gmsh::model::add(model);
+    const Section s = mesh_section(d, apex_y, bottom_y, around_eye ? &profile : nullptr,
+                                   around_eye ? &profile_x : nullptr, size_field(d, apex_y));
+    gmsh::model::setCurrent(model);
+
+    // The air as a discrete surface and curves; its nodes continue the
+    // model's numbering, except where they are the eye's.
+    std::size_t offset = 0;
+    {
+      std::vector<std::size_t> tags;
+      std::vector<double> xyz, uvw;
+      gmsh::model::mesh::getNodes(tags, xyz, uvw, -1, -1, false, false);
+      for (std::size_t t : tags)
+        offset = std::max(offset, t);
+    }
+    auto tag_of = [&](std::size_t n) {
+      auto it = s.eye.find(n);
+      return it != s.eye.end() ? it->second : offset + n;
+    };
+    const int surface = static_cast<int>(Group::volume);
+    gmsh::model::addDiscreteEntity(2, surface);
+    std::vector<std::size_t> new_tags;
+    std::vector<double> coords;
+    for (auto& [n, p] : s.x)
+      if (!s.eye.count(n))
+      {
+        new_tags.push_back(offset + n);
+        coords.insert(coords.end(), p.begin(), p.end());
+      }
+    gmsh::model::mesh::addNodes(2, surface, new_tags, coords);
+    std::vector<std::size_t> nodes;
+    for (std::size_t n : s.triangles)
+      nodes.push_back(tag_of(n));
+    gmsh::model::mesh::addElementsByType(surface, 2, {}, nodes);
+    gmsh::model::addPhysicalGroup(2, {surface}, surface);
+    gmsh::model::setPhysicalName(2, surface, "air");
+    const std::map<int, std::string> names{{static_cast<int>(Group::inlet), "inlet"},
+                                           {static_cast<int>(Group::outlet), "outlet"},
+                                           {static_cast<int>(Group::nozzle), "nozzle"},
+                                           {static_cast<int>(Group::axis), "air_axis"}};
+    for (auto& [group, segments] : s.segments)
+    {
+      const int curve = 100 + group;
+      gmsh::model::addDiscreteEntity(1, curve);
+      nodes.clear();
+      for (std::size_t n : segments)
+        nodes.push_back(tag_of(n));
+      gmsh::model::mesh::addElementsByType(curve, 1, {}, nodes);
+      gmsh::model::addPhysicalGroup(1, {curve}, group);
+      gmsh::model::setPhysicalName(1, group, names.at(group));
+    }
+  }
+  catch (const std::string& message) // gmsh 4.8 throws its last error as a string
+  {
+    throw std::runtime_error("nct::air::build_section: gmsh failed: " + message);
   }
 }
 

@@ -40,7 +40,8 @@ enum class Group
   outlet = 12,       ///< "outlet": device face, far cylinder, bottom plane
   nozzle = 13,       ///< "nozzle": the nozzle's walls
   symmetry_x = 14,   ///< "air_symmetry_x": air on x = 0
-  symmetry_z = 15    ///< "air_symmetry_z": air on z = 0
+  symmetry_z = 15,   ///< "air_symmetry_z": air on z = 0
+  axis = 16          ///< "air_axis": a section's air on the axis r = 0
 };
 
 /// Throws std::invalid_argument naming the air.* key of an impossible
@@ -58,5 +59,14 @@ void validate(const Domain& d, double apex_y, double bottom_y, double eye_radius
 /// naming the air.* key of an impossible shape, std::runtime_error if gmsh
 /// fails.
 void build(const Domain& d, double apex_y, double bottom_y, double eye_radius, bool around_eye);
+
+/// The same in the meridian plane (r = x >= 0, y; an axisymmetric
+/// section): the 3D domain's plane z = 0, meshed in triangles into the
+/// current gmsh model, around the eye's section (eye::build_section),
+/// whose anterior segments become the air's wall node for node, or alone.
+/// Surface "air" (tag 8); curves "inlet", "outlet", "nozzle", "air_axis"
+/// (Group). Throws as build().
+void build_section(const Domain& d, double apex_y, double bottom_y, double eye_radius,
+                   bool around_eye);
 
 } // namespace nct::air

@@ -401,6 +401,7 @@ static void read_mesh(Model& m)
 
 Model keep(const Model& model, const std::vector<std::int32_t>& volume_groups)
 {
+
   Model m;
   m.groups = model.groups;
   for (auto it = m.groups.volumes.begin(); it != m.groups.volumes.end();)

@@ -22,7 +22,8 @@ std::vector<std::array<double, 3>> corneal_section(const meshio::Tagged& m)
 {
   const auto& mesh = *m.mesh;
   const auto facets = m.facets->find(m.groups.surfaces.at("anterior_cornea"));
-  const auto nodes = dolfinx::mesh::entities_to_geometry(mesh, 2, facets, false);
+  const auto nodes
+      = dolfinx::mesh::entities_to_geometry(mesh, mesh.topology().dim() - 1, facets, false);
   const auto& x = mesh.geometry().x();
   std::vector<double> local;
   for (auto n : nodes)

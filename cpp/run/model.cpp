@@ -130,8 +130,10 @@ eye_meshes(MPI_Comm comm, const Input& in, bool solid, bool air)
               else if (with_eye)
                 eye::build(g, s.mesh.refinement);
               if (air)
-                air::build(s.air.domain, s.mesh.derived.apex_y, g.cut_y,
-                           with_eye ? g.sclera_outer_radius : 0.0, with_eye);
+                (dimension == section::Dimension::axisymmetric ? air::build_section
+                                                               : air::build)(
+                    s.air.domain, s.mesh.derived.apex_y, g.cut_y,
+                    with_eye ? g.sclera_outer_radius : 0.0, with_eye);
             });
   const meshio::Model whole = meshio::extract(comm);
   std::optional<AirMesh> a;
@@ -260,9 +262,12 @@ FluidSide eye_fluid_side(const Settings& s, const AirMesh& a, const MeshSetup* s
   // the symmetry planes, the inlet's velocity, sigma n = 0 on the outlet.
   const auto& gs = a.mesh.groups;
   FluidSide f;
-  f.boundaries.zero = {{group(gs, "nozzle"), {0, 1, 2}},
-                       {group(gs, "air_symmetry_x"), {0}},
-                       {group(gs, "air_symmetry_z"), {2}}};
+  if (s.mesh.dimension == section::Dimension::axisymmetric) // u_r = 0 on the axis
+    f.boundaries.zero = {{group(gs, "nozzle"), {0, 1, 2}}, {group(gs, "air_axis"), {0}}};
+  else
+    f.boundaries.zero = {{group(gs, "nozzle"), {0, 1, 2}},
+                         {group(gs, "air_symmetry_x"), {0}},
+                         {group(gs, "air_symmetry_z"), {2}}};
   for (const char* wall : {"anterior_cornea", "anterior_sclera"})
     if (gs.surfaces.count(wall))
     {

@@ -48,9 +48,6 @@ void check_section(const scene::Scene& scene, const Settings& s, Errors& e)
     at("geometry.internal_structures", "key 'geometry.internal_structures': the internal "
                                        "structures are not built on the eye's section yet; "
                                        "mesh.dimension = \"3d\" has them");
-  if (s.mesh.eye() && (s.puff.load == Load::air || s.puff.load == Load::fsi))
-    at("puff.load", "key 'puff.load': the air about the eye's section is not built yet; "
-                    "mesh.dimension = \"axisymmetric\" takes a prescribed puff");
   if (d == section::Dimension::plane && s.solid.cavity.closed
       && !s.mesh.boundary.cavity_wall.empty())
     at("cavity.model", "key 'cavity.model': a plane section's cavity is a prism of infinite "
