@@ -49,6 +49,49 @@ inline double sphere_pressure(double la, double A, double B, double mu)
   return mu * (0.5 / std::pow(lb, 4) + 2 / lb - 0.5 / std::pow(la, 4) - 2 / la);
 }
 
+/// A damped oscillation's angular frequency [rad/ms] and decay rate
+/// sigma [1/ms] from a signal y(t) after `from`: its upward zero crossings
+/// give the period, its maxima (each refined by a parabola through three
+/// samples a step dt apart) the decay, by a least-squares line through
+/// their logarithms.
+struct Oscillation
+{
+  double omega = 0, sigma = 0;
+  std::size_t periods = 0, peaks = 0;
+};
+
+inline Oscillation damped_oscillation(const std::vector<double>& t, const std::vector<double>& y,
+                                      double from, double dt)
+{
+  std::vector<double> up, peak_t, peak_log;
+  for (std::size_t i = 1; i + 1 < t.size(); ++i)
+  {
+    if (t[i] < from)
+      continue;
+    if (y[i - 1] < 0 && y[i] >= 0)
+      up.push_back(t[i - 1] + dt * y[i - 1] / (y[i - 1] - y[i]));
+    if (y[i] > y[i - 1] && y[i] >= y[i + 1] && y[i] > 0)
+    {
+      const double a = 0.5 * (y[i - 1] - 2 * y[i] + y[i + 1]), b = 0.5 * (y[i + 1] - y[i - 1]);
+      peak_t.push_back(t[i] - dt * b / (2 * a));
+      peak_log.push_back(std::log(y[i] - b * b / (4 * a)));
+    }
+  }
+  Oscillation o;
+  o.peaks = peak_t.size();
+  if (up.size() < 2 || peak_t.size() < 2)
+    return o;
+  o.periods = up.size() - 1;
+  o.omega = 2 * M_PI * (up.size() - 1) / (up.back() - up.front());
+  double st = 0, sl = 0, stt = 0, stl = 0;
+  const double np = static_cast<double>(peak_t.size());
+  for (std::size_t i = 0; i < peak_t.size(); ++i)
+    st += peak_t[i], sl += peak_log[i], stt += peak_t[i] * peak_t[i],
+        stl += peak_t[i] * peak_log[i];
+  o.sigma = -(np * stl - st * sl) / (np * stt - st * st);
+  return o;
+}
+
 /// Where the HGO law's fibres lie in a homogeneous uniaxial test.
 enum class Fibres
 {

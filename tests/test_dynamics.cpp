@@ -175,37 +175,16 @@ TEST(Support, RigidBodyOnSpringsVibratesAtTheClosedForm)
     problem.advance();
     t.push_back((n + 1) * dt), y.push_back(probe.displacement()[0][1]);
   }
-  // The free vibration after the push: its upward zero crossings give the
-  // period, its maxima (each refined by a parabola) the decay.
-  std::vector<double> up, peak_t, peak_log;
-  for (std::size_t i = 1; i + 1 < t.size(); ++i)
-  {
-    if (t[i] < 2 * push)
-      continue;
-    if (y[i - 1] < 0 && y[i] >= 0)
-      up.push_back(t[i - 1] + dt * y[i - 1] / (y[i - 1] - y[i]));
-    if (y[i] > y[i - 1] && y[i] >= y[i + 1] && y[i] > 0)
-    {
-      const double a = 0.5 * (y[i - 1] - 2 * y[i] + y[i + 1]), b = 0.5 * (y[i + 1] - y[i - 1]);
-      peak_t.push_back(t[i] - dt * b / (2 * a));
-      peak_log.push_back(std::log(y[i] - b * b / (4 * a)));
-    }
-  }
-  ASSERT_GE(up.size(), 4u);
-  ASSERT_GE(peak_t.size(), 4u);
-  const double omega_d = 2 * M_PI * (up.size() - 1) / (up.back() - up.front());
-  double st = 0, sl = 0, stt = 0, stl = 0;
-  const double np = static_cast<double>(peak_t.size());
-  for (std::size_t i = 0; i < peak_t.size(); ++i)
-    st += peak_t[i], sl += peak_log[i], stt += peak_t[i] * peak_t[i],
-        stl += peak_t[i] * peak_log[i];
-  const double sigma = -(np * stl - st * sl) / (np * stt - st * st);
+  const Oscillation o = damped_oscillation(t, y, 2 * push, dt);
+  ASSERT_GE(o.periods, 3u);
+  ASSERT_GE(o.peaks, 4u);
+  const double omega_d = o.omega, sigma = o.sigma;
   const double m = 4 * rho; // the whole model: the quarter is the unit cube
   const double sigma_exact = 0.5 * (alpha + C / m);
   const double omega_exact = std::sqrt(K / m - sigma_exact * sigma_exact);
   std::printf("rigid body on springs: omega_d %.5f rad/ms (closed form %.5f), decay %.5f 1/ms "
               "(closed form %.5f), %zu periods\n",
-              omega_d, omega_exact, sigma, sigma_exact, up.size() - 1);
+              omega_d, omega_exact, sigma, sigma_exact, o.periods);
   // Generalised alpha at omega dt = 0.16: period error O((omega dt)^2) ~ 2e-3,
   // algorithmic damping O((omega dt)^3): below the tolerances.
   EXPECT_NEAR(omega_d, omega_exact, 5e-3 * omega_exact);

@@ -400,6 +400,44 @@ std::function<double(double, double, double)> size_field(const Domain& d, double
   };
 }
 
+/// The air's nodes meshed in a temporary model, in the current one: the
+/// eye's node where it is one (`eye`), else a tag after the current
+/// model's largest.
+class NodeTags
+{
+public:
+  explicit NodeTags(const std::map<std::size_t, std::size_t>& eye) : _eye(eye)
+  {
+    std::vector<std::size_t> tags;
+    std::vector<double> xyz, uvw;
+    gmsh::model::mesh::getNodes(tags, xyz, uvw, -1, -1, false, false);
+    for (std::size_t t : tags)
+      _offset = std::max(_offset, t);
+  }
+  std::size_t operator()(std::size_t n) const
+  {
+    auto it = _eye.find(n);
+    return it != _eye.end() ? it->second : _offset + n;
+  }
+  /// The nodes of `x` that are not the eye's, into the entity (dim, tag).
+  void add_nodes(int dim, int tag, const std::map<std::size_t, Vec3>& x) const
+  {
+    std::vector<std::size_t> tags;
+    std::vector<double> coords;
+    for (auto& [n, p] : x)
+      if (!_eye.count(n))
+      {
+        tags.push_back(_offset + n);
+        coords.insert(coords.end(), p.begin(), p.end());
+      }
+    gmsh::model::mesh::addNodes(dim, tag, tags, coords);
+  }
+
+private:
+  const std::map<std::size_t, std::size_t>& _eye;
+  std::size_t _offset = 0;
+};
+
 } // namespace
 
 void validate(const Domain& d, double apex_y, double bottom_y, double eye_radius)
@@ -449,20 +487,8 @@ void build(const Domain& d, double apex_y, double bottom_y, double eye_radius, b
     const Surfaces s = mesh_boundary(d, apex_y, bottom_y, around_eye ? &rim : nullptr, size);
     gmsh::model::setCurrent(model);
 
-    // The air's boundary as discrete surfaces; its nodes continue the
-    // model's numbering, except where they are the eye's.
-    std::size_t offset = 0;
-    {
-      std::vector<std::size_t> tags;
-      std::vector<double> xyz, uvw;
-      gmsh::model::mesh::getNodes(tags, xyz, uvw, -1, -1, false, false);
-      for (std::size_t t : tags)
-        offset = std::max(offset, t);
-    }
-    auto tag_of = [&](std::size_t n) {
-      auto it = s.eye.find(n);
-      return it != s.eye.end() ? it->second : offset + n;
-    };
+    // The air's boundary as discrete surfaces.
+    const NodeTags tag_of(s.eye);
     const int first = 101;
     std::vector<int> loop;
     std::map<int, std::vector<int>> groups;
@@ -473,15 +499,7 @@ void build(const Domain& d, double apex_y, double bottom_y, double eye_radius, b
       loop.push_back(entity);
       groups[s.triangles[i].first].push_back(entity);
     }
-    std::vector<std::size_t> new_tags;
-    std::vector<double> coords;
-    for (auto& [n, p] : s.x)
-      if (!s.eye.count(n))
-      {
-        new_tags.push_back(offset + n);
-        coords.insert(coords.end(), p.begin(), p.end());
-      }
-    gmsh::model::mesh::addNodes(2, first, new_tags, coords);
+    tag_of.add_nodes(2, first, s.x);
     for (std::size_t i = 0; i < s.triangles.size(); ++i)
     {
       std::vector<std::size_t> nodes;
@@ -555,31 +573,11 @@ void build_section(const Domain& d, double apex_y, double bottom_y, double eye_r
                                    around_eye ? &profile_x : nullptr, size_field(d, apex_y));
     gmsh::model::setCurrent(model);
 
-    // The air as a discrete surface and curves; its nodes continue the
-    // model's numbering, except where they are the eye's.
-    std::size_t offset = 0;
-    {
-      std::vector<std::size_t> tags;
-      std::vector<double> xyz, uvw;
-      gmsh::model::mesh::getNodes(tags, xyz, uvw, -1, -1, false, false);
-      for (std::size_t t : tags)
-        offset = std::max(offset, t);
-    }
-    auto tag_of = [&](std::size_t n) {
-      auto it = s.eye.find(n);
-      return it != s.eye.end() ? it->second : offset + n;
-    };
+    // The air as a discrete surface and curves.
+    const NodeTags tag_of(s.eye);
     const int surface = static_cast<int>(Group::volume);
     gmsh::model::addDiscreteEntity(2, surface);
-    std::vector<std::size_t> new_tags;
-    std::vector<double> coords;
-    for (auto& [n, p] : s.x)
-      if (!s.eye.count(n))
-      {
-        new_tags.push_back(offset + n);
-        coords.insert(coords.end(), p.begin(), p.end());
-      }
-    gmsh::model::mesh::addNodes(2, surface, new_tags, coords);
+    tag_of.add_nodes(2, surface, s.x);
     std::vector<std::size_t> nodes;
     for (std::size_t n : s.triangles)
       nodes.push_back(tag_of(n));

@@ -50,10 +50,10 @@ void visit(scene::Visitor& v, Domain& d)
   v.real({"air.nozzle_length", "2.0", "mm", 0.5, 200,
           "length of the bore from the inlet (the device's face) to the exit", nozzle},
          d.nozzle_length);
-  v.real({"air.size_nozzle", "0.1", "mm", 0.02, 10,
+  v.real({"air.size_nozzle", "0.1", "mm", 0.005, 10,
           "element size in the nozzle's bore and one bore radius beyond its exit", nozzle},
          d.size_nozzle);
-  v.real({"air.size_jet", "0.15", "mm", 0.02, 10,
+  v.real({"air.size_jet", "0.15", "mm", 0.005, 10,
           "element size within air.jet_radius of the axis, from the inlet to the eye", nozzle},
          d.size_jet);
   v.real({"air.jet_radius", "2.0", "mm", 0.1, 50, "radius of the finely meshed core about the axis",
