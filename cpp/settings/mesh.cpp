@@ -88,13 +88,13 @@ void visit(scene::Visitor& v, Refinement& r)
 {
   v.integer({"mesh.layers", "5", "", 1, 12, "eye: elements through the wall thickness", on_eye},
             r.layers);
-  v.real({"mesh.size_cornea", "0.5", "mm", 0.05, 5, "eye: in-plane element size in the cornea",
+  v.real({"mesh.size_cornea", "0.5", "mm", 0.01, 5, "eye: in-plane element size in the cornea",
           on_eye},
          r.size_cornea);
-  v.real({"mesh.size_limbus", "0.5", "mm", 0.05, 5, "eye: in-plane element size in the limbus",
+  v.real({"mesh.size_limbus", "0.5", "mm", 0.01, 5, "eye: in-plane element size in the limbus",
           on_eye},
          r.size_limbus);
-  v.real({"mesh.size_sclera", "1.5", "mm", 0.05, 10, "eye: in-plane element size in the sclera",
+  v.real({"mesh.size_sclera", "1.5", "mm", 0.01, 10, "eye: in-plane element size in the sclera",
           on_eye},
          r.size_sclera);
   v.real({"mesh.size_lens", "0.8", "mm", 0.05, 5,
