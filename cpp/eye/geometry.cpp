@@ -916,18 +916,17 @@ void build_eye_section(const Layout& e, const Refinement& ref)
   gmsh::model::mesh::addNodes(2, 1, tags, coords);
   const std::array<std::string, 3> part_names{"cornea", "limbus", "sclera"};
   std::size_t next = 1;
-  const auto add_elements = [&](int dim, int entity, int type,
-                                const std::vector<std::size_t>& nodes, std::size_t per_element) {
+  const auto add_elements = [&](int entity, int type, const std::vector<std::size_t>& nodes,
+                                std::size_t per_element) {
     std::vector<std::size_t> element_tags(nodes.size() / per_element);
     for (auto& tag : element_tags)
       tag = next++;
     gmsh::model::mesh::addElementsByType(entity, type, element_tags, nodes);
-    (void)dim;
   };
   for (int p = 1; p <= 3; ++p) {
     if (p > 1)
       gmsh::model::addDiscreteEntity(2, p);
-    add_elements(2, p, 2, triangles[p - 1], 3);
+    add_elements(p, 2, triangles[p - 1], 3);
     gmsh::model::addPhysicalGroup(2, {p}, p);
     gmsh::model::setPhysicalName(2, p, part_names[p - 1]);
   }
@@ -940,7 +939,7 @@ void build_eye_section(const Layout& e, const Refinement& ref)
   for (auto [group, name] : groups) {
     const int g = static_cast<int>(group);
     gmsh::model::addDiscreteEntity(1, g);
-    add_elements(1, g, 1, segments[g - 1], 2);
+    add_elements(g, 1, segments[g - 1], 2);
     gmsh::model::addPhysicalGroup(1, {g}, g);
     gmsh::model::setPhysicalName(1, g, name);
   }
