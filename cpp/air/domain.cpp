@@ -92,6 +92,26 @@ Rim eye_rim(double bottom_y)
   return rim;
 }
 
+/// The current (temporary) model's meshed nodes by tag; `eye` gets, per
+/// geo point placed on an eye node (`eye_point`), that node for the mesh
+/// node on the point.
+std::map<std::size_t, Vec3> meshed_nodes(const std::map<int, std::size_t>& eye_point,
+                                         std::map<std::size_t, std::size_t>& eye)
+{
+  std::vector<std::size_t> tags;
+  std::vector<double> xyz, uvw;
+  gmsh::model::mesh::getNodes(tags, xyz, uvw, -1, -1, true, false);
+  std::map<std::size_t, Vec3> all;
+  for (std::size_t i = 0; i < tags.size(); ++i)
+    all[tags[i]] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+  for (auto [point, node] : eye_point)
+  {
+    gmsh::model::mesh::getNodes(tags, xyz, uvw, 0, point, false, false);
+    eye[tags.at(0)] = node;
+  }
+  return all;
+}
+
 /// Triangles and nodes of the meshed air boundary, in the temporary model.
 struct Surfaces
 {
@@ -225,17 +245,7 @@ Surfaces mesh_boundary(const Domain& d, double apex_y, double bottom_y, const Ri
   gmsh::model::mesh::generate(2);
 
   Surfaces out;
-  std::vector<std::size_t> tags;
-  std::vector<double> xyz, uvw;
-  gmsh::model::mesh::getNodes(tags, xyz, uvw, -1, -1, true, false);
-  std::map<std::size_t, Vec3> all;
-  for (std::size_t i = 0; i < tags.size(); ++i)
-    all[tags[i]] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
-  for (auto [point, node] : eye_point)
-  {
-    gmsh::model::mesh::getNodes(tags, xyz, uvw, 0, point, false, false);
-    out.eye[tags.at(0)] = node;
-  }
+  const std::map<std::size_t, Vec3> all = meshed_nodes(eye_point, out.eye);
   for (auto [group, s] : surfaces)
   {
     std::vector<std::size_t> elements, nodes;
@@ -353,17 +363,7 @@ Section mesh_section(const Domain& d, double apex_y, double bottom_y,
   gmsh::model::mesh::generate(2);
 
   Section out;
-  std::vector<std::size_t> tags;
-  std::vector<double> xyz, uvw;
-  gmsh::model::mesh::getNodes(tags, xyz, uvw, -1, -1, true, false);
-  std::map<std::size_t, Vec3> all;
-  for (std::size_t i = 0; i < tags.size(); ++i)
-    all[tags[i]] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
-  for (auto [point, node] : eye_point)
-  {
-    gmsh::model::mesh::getNodes(tags, xyz, uvw, 0, point, false, false);
-    out.eye[tags.at(0)] = node;
-  }
+  const std::map<std::size_t, Vec3> all = meshed_nodes(eye_point, out.eye);
   std::vector<std::size_t> elements;
   gmsh::model::mesh::getElementsByType(2, elements, out.triangles, surface);
   for (std::size_t n : out.triangles)
