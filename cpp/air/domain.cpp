@@ -92,6 +92,27 @@ Rim eye_rim(double bottom_y)
   return rim;
 }
 
+/// Mesh the current model in `dim` dimensions with the element size
+/// `size(x, y, z)` alone (not from points, curvature or the boundary),
+/// optionally optimised; the options and the size callback are restored
+/// and removed afterwards.
+void generate(int dim, const std::function<double(double, double, double)>& size, bool optimize)
+{
+  meshio::OptionGuard options;
+  options.set("Mesh.MeshSizeFromPoints", 0);
+  options.set("Mesh.MeshSizeFromCurvature", 0);
+  options.set("Mesh.MeshSizeExtendFromBoundary", 0);
+  if (optimize)
+    options.set("Mesh.Optimize", 1);
+  gmsh::model::mesh::setSizeCallback(
+      [&size](int, int, double x, double y, double z) { return size(x, y, z); });
+  struct RemoveCallback
+  {
+    ~RemoveCallback() { gmsh::model::mesh::removeSizeCallback(); }
+  } remove_callback;
+  gmsh::model::mesh::generate(dim);
+}
+
 /// The current (temporary) model's meshed nodes by tag; `eye` gets, per
 /// geo point placed on an eye node (`eye_point`), that node for the mesh
 /// node on the point.
@@ -236,13 +257,7 @@ Surfaces mesh_boundary(const Domain& d, double apex_y, double bottom_y, const Ri
   }
   geo::synchronize();
 
-  meshio::OptionGuard options;
-  options.set("Mesh.MeshSizeFromPoints", 0);
-  options.set("Mesh.MeshSizeFromCurvature", 0);
-  options.set("Mesh.MeshSizeExtendFromBoundary", 0);
-  gmsh::model::mesh::setSizeCallback(
-      [&size](int, int, double x, double y, double z) { return size(x, y, z); });
-  gmsh::model::mesh::generate(2);
+  generate(2, size, false);
 
   Surfaces out;
   const std::map<std::size_t, Vec3> all = meshed_nodes(eye_point, out.eye);
@@ -349,18 +364,7 @@ Section mesh_section(const Domain& d, double apex_y, double bottom_y,
   const int surface = geo::addPlaneSurface({geo::addCurveLoop(loop)});
   geo::synchronize();
 
-  meshio::OptionGuard options;
-  options.set("Mesh.MeshSizeFromPoints", 0);
-  options.set("Mesh.MeshSizeFromCurvature", 0);
-  options.set("Mesh.MeshSizeExtendFromBoundary", 0);
-  options.set("Mesh.Optimize", 1);
-  gmsh::model::mesh::setSizeCallback(
-      [&size](int, int, double x, double y, double z) { return size(x, y, z); });
-  struct RemoveCallback
-  {
-    ~RemoveCallback() { gmsh::model::mesh::removeSizeCallback(); }
-  } remove_callback;
-  gmsh::model::mesh::generate(2);
+  generate(2, size, true);
 
   Section out;
   const std::map<std::size_t, Vec3> all = meshed_nodes(eye_point, out.eye);
@@ -518,18 +522,7 @@ void build(const Domain& d, double apex_y, double bottom_y, double eye_radius, b
     const int volume = static_cast<int>(Group::volume);
     gmsh::model::geo::addVolume({gmsh::model::geo::addSurfaceLoop(loop)}, volume);
     gmsh::model::geo::synchronize();
-    meshio::OptionGuard options;
-    options.set("Mesh.MeshSizeFromPoints", 0);
-    options.set("Mesh.MeshSizeFromCurvature", 0);
-    options.set("Mesh.MeshSizeExtendFromBoundary", 0);
-    options.set("Mesh.Optimize", 1);
-    gmsh::model::mesh::setSizeCallback(
-        [&size](int, int, double x, double y, double z) { return size(x, y, z); });
-    struct RemoveCallback
-    {
-      ~RemoveCallback() { gmsh::model::mesh::removeSizeCallback(); }
-    } remove_callback;
-    gmsh::model::mesh::generate(3);
+    generate(3, size, true);
 
     gmsh::model::addPhysicalGroup(3, {volume}, volume);
     gmsh::model::setPhysicalName(3, volume, "air");
