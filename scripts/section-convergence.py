@@ -4,15 +4,16 @@ axisymmetric section (docs/sections.md).
 
 Runs a coupled scene (scenes/puff-fsi.toml unless --scene) with
 mesh.dimension = "axisymmetric" over a ladder of air meshes, each level
-halving air.size_jet and air.size_nozzle (and, with --solid, the eye's
-mesh.size_* too), at the scene's time step and at half of it on the two
+halving air.size_jet and air.size_nozzle (with --solid the eye's
+mesh.size_* too; with --uniform also the growth of the air's cells away
+from the jet's core and their largest size, so that every cell halves), at the scene's time step and at half of it on the two
 finest meshes. Prints a table of the biomarkers and the wall time, then
 per biomarker the observed order over the three finest meshes and
 Richardson's estimate of the converged value, with each run's distance
 from it.
 
 Usage: scripts/section-convergence.py [--scene S] [--levels N] [--ranks N]
-       [--out DIR] [--solid] [--set KEY=VALUE ...]
+       [--out DIR] [--solid | --uniform] [--set KEY=VALUE ...]
 A finished case (its summary.json present) is not run again.
 """
 import argparse
@@ -28,7 +29,17 @@ RESPONSES = [("deformation_amplitude_mm", "deformation [mm]"),
              ("apex_pressure_max_mmHg", "apex pressure [mmHg]"),
              ("a1_time_ms", "A1 [ms]"), ("hc_time_ms", "HC [ms]"), ("a2_time_ms", "A2 [ms]")]
 BASE = {"air.size_jet": 0.2, "air.size_nozzle": 0.13,
-        "mesh.size_cornea": 0.5, "mesh.size_limbus": 0.5, "mesh.size_sclera": 1.5}
+        "mesh.size_cornea": 0.5, "mesh.size_limbus": 0.5, "mesh.size_sclera": 1.5,
+        "air.size_gradation": 0.25, "air.size_far": 5.0}
+
+
+def refined(key, a):
+    """Is this size halved from level to level?"""
+    if key.startswith("mesh."):
+        return a.solid or a.uniform
+    if key in ("air.size_gradation", "air.size_far"):
+        return a.uniform
+    return True
 
 
 def run(args, name, sets):
@@ -53,6 +64,9 @@ def main():
     p.add_argument("--ranks", type=int, default=2)
     p.add_argument("--out", default="runs/section-convergence")
     p.add_argument("--solid", action="store_true", help="refine the eye's mesh with the air's")
+    p.add_argument("--uniform", action="store_true",
+                   help="refine everywhere: the eye's mesh, and the air's sizes away from the "
+                        "jet's core too (air.size_gradation, air.size_far)")
     p.add_argument("--set", action="append", default=[])
     a = p.parse_args()
     dt = 0.25
@@ -62,11 +76,11 @@ def main():
     rows = []
     for level in range(a.levels):
         f = 0.5 ** level
-        sets = [f"{k}={v * f}" for k, v in BASE.items() if a.solid or k.startswith("air.")]
+        sets = [f"{k}={v * f}" for k, v in BASE.items() if refined(k, a)]
         rows.append((level, dt, run(a, f"level{level}-dt{dt}", sets)))
     for level in range(max(0, a.levels - 2), a.levels):
         f = 0.5 ** level
-        sets = [f"{k}={v * f}" for k, v in BASE.items() if a.solid or k.startswith("air.")]
+        sets = [f"{k}={v * f}" for k, v in BASE.items() if refined(k, a)]
         sets.append(f"dynamics.dt={dt / 2}")
         rows.append((level, dt / 2, run(a, f"level{level}-dt{dt / 2}", sets)))
 

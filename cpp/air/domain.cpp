@@ -398,8 +398,8 @@ std::function<double(double, double, double)> size_field(const Domain& d, double
   return [=](double x, double y, double z) {
     const double r = std::hypot(x, z);
     const double h = std::min(
-        d.size_nozzle + size_gradation * away(r, y, bore, y_exit - bore, y_top),
-        d.size_jet + size_gradation * away(r, y, d.jet_radius, y_low, y_top));
+        d.size_nozzle + d.size_gradation * away(r, y, bore, y_exit - bore, y_top),
+        d.size_jet + d.size_gradation * away(r, y, d.jet_radius, y_low, y_top));
     return std::min(d.size_far, h);
   };
 }

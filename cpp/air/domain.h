@@ -26,10 +26,8 @@ struct Domain
   double size_jet;  ///< element size within jet_radius of the axis, inlet to apex
   double jet_radius; ///< radius of the finely meshed core of the jet
   double size_far;   ///< largest element size, towards the far boundary
+  double size_gradation; ///< growth of the element size per mm away from the core [mm/mm]
 };
-
-/// Growth of the element size away from the jet's core [mm per mm].
-constexpr double size_gradation = 0.25;
 
 /// Physical tags of the air: its volume, and its boundary groups. The eye's
 /// anterior surfaces ("anterior_cornea", "anterior_sclera") bound it too.

@@ -60,8 +60,13 @@ void visit(scene::Visitor& v, Domain& d)
           nozzle},
          d.jet_radius);
   v.real({"air.size_far", "5.0", "mm", 0.05, 100,
-          "largest element size (sizes grow 0.25 mm per mm away from the core)", nozzle},
+          "largest element size (sizes grow by air.size_gradation away from the core)", nozzle},
          d.size_far);
+  v.real({"air.size_gradation", "0.25", "mm/mm", 0.01, 2,
+          "growth of the element size per mm of distance from the nozzle and the jet's core; "
+          "a mesh study halves it with air.size_jet and air.size_nozzle to refine everywhere",
+          nozzle},
+         d.size_gradation);
 }
 
 } // namespace air
