@@ -28,13 +28,18 @@ import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ISO = ["material.cornea.k1=0", "material.limbus.k1=0"]
-MODELS = {
-    "prescribed": ("default.toml", []),
-    "prescribed-iso": ("default.toml", ISO),
-    "rigid-eye": ("puff-rigid-eye.toml", []),
-    "one-way": ("puff-cfd.toml", []),
-    "two-way": ("puff-fsi.toml", []),
-    "two-way-iso": ("puff-fsi.toml", ISO),
+# The section's converged mesh (scenes/puff-fsi-section.toml, docs/sections.md):
+# the air's models also run on it, as a third column.
+CONVERGED = ["air.size_jet=0.05", "air.size_nozzle=0.0325", "air.size_gradation=0.0625",
+             "air.size_far=1.25", "air.jet_radius=1.5", "mesh.size_cornea=0.125",
+             "mesh.size_limbus=0.125", "mesh.size_sclera=0.375"]
+MODELS = {  # scene, its keys, whether the air is computed
+    "prescribed": ("default.toml", [], False),
+    "prescribed-iso": ("default.toml", ISO, False),
+    "rigid-eye": ("puff-rigid-eye.toml", [], True),
+    "one-way": ("puff-cfd.toml", [], False),
+    "two-way": ("puff-fsi.toml", [], True),
+    "two-way-iso": ("puff-fsi.toml", ISO, True),
 }
 BIOMARKERS = [
     ("deformation_amplitude_mm", "deformation amplitude [mm]"),
@@ -59,17 +64,18 @@ BIOMARKERS = [
     ("iop_max_mmHg", "IOP max [mmHg]"),
     ("apex_pressure_max_mmHg", "apex air pressure max [mmHg]"),
     ("apex_pressure_hc_mmHg", "apex air pressure at HC [mmHg]"),
-    ("cells", "air cells (else the solid's)"),
+    ("cells", "air cells"),
     ("newton_iterations", "Newton iterations"),
     ("coupled_dofs", "coupled DOFs"),
-    ("dofs", "solid DOFs"),
+    ("dofs", "DOFs (the solid's; the rigid eye: the air's)"),
     ("wall_s", "wall time [s]"),
 ]
 
 
-def run(args, model, dimension):
-    scene, sets = MODELS[model]
-    out = os.path.join(args.out, f"{model}-{dimension}")
+def run(args, model, dimension, converged=False):
+    scene, sets, _ = MODELS[model]
+    sets = sets + (CONVERGED if converged else [])
+    out = os.path.join(args.out, f"{model}-{dimension}" + ("-converged" if converged else ""))
     summary = os.path.join(out, "summary.json")
     if not os.path.exists(summary):
         cmd = ["mpirun", "-n", str(args.ranks), "--allow-run-as-root", "--oversubscribe",
@@ -85,8 +91,10 @@ def run(args, model, dimension):
 
 
 def value(s, key):
+    if s is None:
+        return None
     if key == "cells":
-        return s.get("air_cells", s.get("cells"))
+        return s.get("air_cells", s.get("cells") if "stagnation_pressure_mmHg" in s else None)
     return s.get(key)
 
 
@@ -96,23 +104,30 @@ def main():
     p.add_argument("--ranks", type=int, default=2)
     p.add_argument("--out", default="runs/section-accuracy")
     a = p.parse_args()
-    results = {m: (run(a, m, "3d"), run(a, m, "axisymmetric")) for m in a.models}
-    for m, (three, section) in results.items():
+    results = {m: (run(a, m, "3d"), run(a, m, "axisymmetric"),
+                   run(a, m, "axisymmetric", True) if MODELS[m][2] else None)
+               for m in a.models}
+    number = lambda v: isinstance(v, (int, float))
+    for m, (three, *sections) in results.items():
         print(f"\n### {m} ({MODELS[m][0]} {' '.join(MODELS[m][1])})\n")
-        print("| | 3D | section | section - 3D |")
-        print("|---|---|---|---|")
+        columns = ["section"] + (["section, converged mesh"] if sections[1] else [])
+        print("| | 3D | " + " | ".join(f"{c} | {c} - 3D" for c in columns) + " |")
+        print("|---|---|" + "---|---|" * len(columns))
         for key, label in BIOMARKERS:
-            x, y = value(three, key), value(section, key)
-            if not isinstance(x, (int, float)) and not isinstance(y, (int, float)):
+            x = value(three, key)
+            ys = [value(sec, key) for sec in sections if sec]
+            if not number(x) and not any(number(y) for y in ys):
                 continue
-            fmt = (lambda v: f"{v:,}") if key.endswith("dofs") or key == "newton_iterations" \
+            fmt = (lambda v: f"{v:,}") if key.endswith("dofs") or key in ("newton_iterations", "cells") \
                 else (lambda v: f"{v:.4g}")
-            show = lambda v: fmt(v) if isinstance(v, (int, float)) else "-"
-            diff = ""
-            if isinstance(x, (int, float)) and isinstance(y, (int, float)) and x != 0:
-                diff = f"{y / x:.3g}x" if key in ("wall_s", "dofs", "coupled_dofs") \
-                    else f"{100 * (y - x) / abs(x):+.1f} %"
-            print(f"| {label} | {show(x)} | {show(y)} | {diff} |")
+            cells = [fmt(x) if number(x) else "-"]
+            for y in ys:
+                diff = ""
+                if number(x) and number(y) and x != 0:
+                    diff = f"{y / x:.3g}x" if key in ("wall_s", "dofs", "coupled_dofs", "cells") \
+                        else f"{100 * (y - x) / abs(x):+.1f} %"
+                cells += [fmt(y) if number(y) else "-", diff]
+            print(f"| {label} | " + " | ".join(cells) + " |")
 
 
 main()

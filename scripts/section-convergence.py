@@ -105,8 +105,12 @@ def main():
             limit = f3 + d2 / (2 ** order - 1) if order == order and order > 0 else float("nan")
             err = (f3 / limit - 1) * 100 if limit == limit else float("nan")
             h = half.get(key, float("nan"))
-            print(f"| {label} | {order:.2f} | {limit:.4f} | {f3:.4f} | {err:+.2f} % | {h:.4f} | "
-                  f"{(h / f3 - 1) * 100:+.2f} % |")
+            if order == order:
+                converged = f"{order:.2f} | {limit:.4f} | {f3:.4f} | {err:+.2f} %"
+            else:  # not monotone: no order; the three finest meshes' spread instead
+                spread = (max(f1, f2, f3) - min(f1, f2, f3)) / abs(f3) * 100
+                converged = f"- (not monotone) | - | {f3:.4f} | spread {spread:.2f} %"
+            print(f"| {label} | {converged} | {h:.4f} | {(h / f3 - 1) * 100:+.2f} % |")
     return 0
 
 
