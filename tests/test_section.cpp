@@ -569,3 +569,52 @@ TEST(Section, ConvergedCoupledPuff)
   EXPECT_LT(s["a1_time_ms"].get<double>(), s["hc_time_ms"].get<double>());
   EXPECT_LT(s["hc_time_ms"].get<double>(), s["a2_time_ms"].get<double>());
 }
+
+// The eye with its internal structures (lens, zonule, vitreous membrane:
+// two closed cavities) as an axisymmetric section against the 3D quarter
+// eye of the same scene, inflated and pressed on the cornea: the meshed
+// reference volumes, the inflated apex, each cavity's pressure rise under
+// the press and the pressed apex.
+TEST(Section, EyeWithInternalStructures)
+{
+  const std::vector<std::string> sets = {
+      "inflate.iop=6.0",        "inflate.steps=2",         "cavity.model=\"closed\"",
+      "press.pressure=20.0",    "press.profile=\"gaussian\"", "press.steps=1",
+      "output.fields=false"};
+  auto section_sets = sets;
+  section_sets.push_back("mesh.dimension=\"axisymmetric\"");
+  const auto three = run_scene("scenes/eye-internal.toml", "eye_internal_3d", sets);
+  const auto section = run_scene("scenes/eye-internal.toml", "eye_internal_section", section_sets);
+  ASSERT_EQ(three["status"], "converged");
+  ASSERT_EQ(section["status"], "converged");
+  const auto at = [](const nlohmann::json& s, const char* phase) {
+    nlohmann::json last;
+    for (const auto& step : s["steps"])
+      if (step["phase"] == phase)
+        last = step;
+    return last;
+  };
+  const auto relative = [](double a, double b) { return a / b - 1; };
+  for (const char* c : {"aqueous", "vitreous"})
+  {
+    const std::string V = std::string(c) + "_volume_reference_mm3",
+                      p = std::string(c) + "_pressure_mmHg";
+    const double dV = relative(section[V].get<double>(), three[V].get<double>());
+    const double rise_3d = at(three, "press")[p].get<double>() - at(three, "inflate")[p].get<double>();
+    const double rise = at(section, "press")[p].get<double>() - at(section, "inflate")[p].get<double>();
+    std::printf("%s: reference volume %+.2e, pressure rise under the press %.4f (section) %.4f "
+                "(3D) mmHg\n",
+                c, dV, rise, rise_3d);
+    EXPECT_LT(std::abs(dV), 1e-3);
+    EXPECT_NEAR(rise / rise_3d, 1.0, 0.03);
+  }
+  for (const char* phase : {"inflate", "press"})
+  {
+    const double a = at(section, phase)["apex_displacement_mm"][1].get<double>();
+    const double b = at(three, phase)["apex_displacement_mm"][1].get<double>();
+    std::printf("%s: apex %.5f (section) %.5f (3D) mm\n", phase, a, b);
+    EXPECT_NEAR(a / b, 1.0, 0.02);
+  }
+  std::printf("wall: section %.2f s, 3D %.2f s\n", section["wall_s"].get<double>(),
+              three["wall_s"].get<double>());
+}

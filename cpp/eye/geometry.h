@@ -140,8 +140,11 @@ void build(const Geometry& g, const Refinement& r);
 /// posterior profiles, the element size along the meridian per part.
 /// Surfaces "cornea", "limbus", "sclera" (tags 1, 2, 3 = Part); curves
 /// "anterior_cornea", "anterior_sclera", "cavity_wall", "axis" (r = 0),
-/// "fixed" (the cut y = cut_y), tags 1, 2, 3, 4, 6. Internal structures
-/// are not built on a section yet (std::invalid_argument).
+/// "fixed" (the cut y = cut_y), tags 1, 2, 3, 4, 6. With
+/// Geometry::internal_structures also the diaphragm's section (lens cortex
+/// and nucleus, zonule, vitreous membrane: surfaces 4 to 7) from the axis
+/// to the shell's posterior node at the zonule ring, and "cavity_wall"
+/// split into "aqueous_wall" and "vitreous_wall" (curves 7, 8).
 void build_section(const Geometry& g, const Refinement& r);
 
 } // namespace nct::eye

@@ -44,10 +44,6 @@ void check_section(const scene::Scene& scene, const Settings& s, Errors& e)
   if (s.mesh.eye() && d == section::Dimension::plane)
     at("mesh.dimension", "key 'mesh.dimension': the idealised eye is a body of revolution: "
                          "its section is \"axisymmetric\"; \"plane\" needs a file mesh");
-  if (s.mesh.eye() && s.mesh.geometry.internal_structures)
-    at("geometry.internal_structures", "key 'geometry.internal_structures': the internal "
-                                       "structures are not built on the eye's section yet; "
-                                       "mesh.dimension = \"3d\" has them");
   if (d == section::Dimension::plane && s.solid.cavity.closed
       && !s.mesh.boundary.cavity_wall.empty())
     at("cavity.model", "key 'cavity.model': a plane section's cavity is a prism of infinite "
