@@ -402,6 +402,20 @@ enum class Group
 };
 constexpr int group_count = 8;
 constexpr int part_count = 7;
+/// Physical names of the parts, by Part - 1.
+const std::array<std::string, part_count> part_names{
+    "cornea", "limbus", "sclera", "lens_cortex", "lens_nucleus", "zonule", "vitreous_membrane"};
+
+/// Adds elements of one gmsh type to an entity of the current model,
+/// tagged consecutively from `next` on.
+void add_elements(std::size_t& next, int entity, int type, const std::vector<std::size_t>& nodes,
+                  std::size_t per_element)
+{
+  std::vector<std::size_t> tags(nodes.size() / per_element);
+  for (auto& tag : tags)
+    tag = next++;
+  gmsh::model::mesh::addElementsByType(entity, type, tags, nodes);
+}
 
 /// How to mesh a quarter-disc chart: circular arcs at `radii` (increasing;
 /// annulus i lies between radii[i - 1] and radii[i], annulus 0 is the
@@ -802,8 +816,6 @@ void build_eye(const Layout& e, const Refinement& ref)
   }
 
   gmsh::model::add("eye");
-  const std::array<std::string, part_count> part_names{
-      "cornea", "limbus", "sclera", "lens_cortex", "lens_nucleus", "zonule", "vitreous_membrane"};
   const std::array<std::string, group_count> group_names{
       "anterior_cornea", "anterior_sclera", "cavity_wall", "symmetry_x",
       "symmetry_z",      "fixed",           "aqueous_wall", "vitreous_wall"};
@@ -820,15 +832,8 @@ void build_eye(const Layout& e, const Refinement& ref)
     gmsh::model::mesh::addNodes(3, p, tags, coords);
   }
   std::size_t next = 1;
-  const auto add_elements = [&](int entity, int type, const std::vector<std::size_t>& nodes,
-                                std::size_t per_element) {
-    std::vector<std::size_t> tags(nodes.size() / per_element);
-    for (auto& tag : tags)
-      tag = next++;
-    gmsh::model::mesh::addElementsByType(entity, type, tags, nodes);
-  };
   for (int p = 1; p <= parts; ++p) {
-    add_elements(p, 4, mesh.tets[p - 1], 4);
+    add_elements(next, p, 4, mesh.tets[p - 1], 4);
     gmsh::model::addPhysicalGroup(3, {p}, p);
     gmsh::model::setPhysicalName(3, p, part_names[p - 1]);
   }
@@ -838,7 +843,7 @@ void build_eye(const Layout& e, const Refinement& ref)
     if (!used)
       continue;
     gmsh::model::addDiscreteEntity(2, s);
-    add_elements(s, 2, mesh.faces[s - 1], 3);
+    add_elements(next, s, 2, mesh.faces[s - 1], 3);
     gmsh::model::addPhysicalGroup(2, {s}, s);
     gmsh::model::setPhysicalName(2, s, group_names[s - 1]);
   }
@@ -857,6 +862,42 @@ std::vector<double> chart_nodes(const std::vector<double>& bounds,
       chart.push_back(j == n ? b : a + (b - a) * double(j) / double(n));
   }
   return chart;
+}
+
+/// Writes the eye's section into a new gmsh model "eye": the nodes, the
+/// triangles by part (3 parts, or all with the internal structures) and
+/// the boundary segments by group.
+void write_section(const std::vector<std::size_t>& tags, const std::vector<double>& coords,
+                   const std::array<std::vector<std::size_t>, part_count>& triangles,
+                   const std::array<std::vector<std::size_t>, group_count>& segments,
+                   bool internal_structures)
+{
+  gmsh::model::add("eye");
+  gmsh::model::addDiscreteEntity(2, 1);
+  gmsh::model::mesh::addNodes(2, 1, tags, coords);
+  std::size_t next = 1;
+  for (int p = 1; p <= (internal_structures ? part_count : 3); ++p) {
+    if (p > 1)
+      gmsh::model::addDiscreteEntity(2, p);
+    add_elements(next, p, 2, triangles[p - 1], 3);
+    gmsh::model::addPhysicalGroup(2, {p}, p);
+    gmsh::model::setPhysicalName(2, p, part_names[p - 1]);
+  }
+  std::vector<std::pair<Group, const char*>> groups{
+      {Group::anterior_cornea, "anterior_cornea"}, {Group::anterior_sclera, "anterior_sclera"},
+      {Group::symmetry_x, "axis"}, {Group::fixed, "fixed"}};
+  if (internal_structures)
+    groups.insert(groups.end(), {{Group::aqueous_wall, "aqueous_wall"},
+                                 {Group::vitreous_wall, "vitreous_wall"}});
+  else
+    groups.emplace_back(Group::cavity_wall, "cavity_wall");
+  for (auto [group, name] : groups) {
+    const int g = static_cast<int>(group);
+    gmsh::model::addDiscreteEntity(1, g);
+    add_elements(next, g, 1, segments[g - 1], 2);
+    gmsh::model::addPhysicalGroup(1, {g}, g);
+    gmsh::model::setPhysicalName(1, g, name);
+  }
 }
 
 /// Meshes the eye's meridian section (r, y) as the current gmsh model
@@ -985,41 +1026,7 @@ void build_eye_section(const Layout& e, const Refinement& ref)
       add_segment(Group::symmetry_x, dnode(k, 0), dnode(k + 1, 0));
   }
 
-  gmsh::model::add("eye");
-  gmsh::model::addDiscreteEntity(2, 1);
-  gmsh::model::mesh::addNodes(2, 1, tags, coords);
-  const std::array<std::string, part_count> part_names{
-      "cornea", "limbus", "sclera", "lens_cortex", "lens_nucleus", "zonule", "vitreous_membrane"};
-  std::size_t next = 1;
-  const auto add_elements = [&](int entity, int type, const std::vector<std::size_t>& nodes,
-                                std::size_t per_element) {
-    std::vector<std::size_t> element_tags(nodes.size() / per_element);
-    for (auto& tag : element_tags)
-      tag = next++;
-    gmsh::model::mesh::addElementsByType(entity, type, element_tags, nodes);
-  };
-  for (int p = 1; p <= (dia.on ? part_count : 3); ++p) {
-    if (p > 1)
-      gmsh::model::addDiscreteEntity(2, p);
-    add_elements(p, 2, triangles[p - 1], 3);
-    gmsh::model::addPhysicalGroup(2, {p}, p);
-    gmsh::model::setPhysicalName(2, p, part_names[p - 1]);
-  }
-  std::vector<std::pair<Group, const char*>> groups{
-      {Group::anterior_cornea, "anterior_cornea"}, {Group::anterior_sclera, "anterior_sclera"},
-      {Group::symmetry_x, "axis"}, {Group::fixed, "fixed"}};
-  if (dia.on)
-    groups.insert(groups.end(), {{Group::aqueous_wall, "aqueous_wall"},
-                                 {Group::vitreous_wall, "vitreous_wall"}});
-  else
-    groups.emplace_back(Group::cavity_wall, "cavity_wall");
-  for (auto [group, name] : groups) {
-    const int g = static_cast<int>(group);
-    gmsh::model::addDiscreteEntity(1, g);
-    add_elements(g, 1, segments[g - 1], 2);
-    gmsh::model::addPhysicalGroup(1, {g}, g);
-    gmsh::model::setPhysicalName(1, g, name);
-  }
+  write_section(tags, coords, triangles, segments, dia.on);
 }
 
 } // namespace
