@@ -1,12 +1,21 @@
 """Holzapfel-Gasser-Ogden anisotropic hyperelasticity (cornea, limbus).
 
     Psi = Psi_iso + U(J),
-    Psi_iso = C10 (Ibar1 - 3) + k1/(2 k2) sum_{i=4,6} [exp(k2 <Ibar_i - 1>^2) - 1],
+    Psi_iso = C10 (Ibar1 - 3) + sum_{i=4,6} W(Ebar_i) [Ibar_i > 1],
+    W(E) = k1/(2 k2) [exp(k2 E^2) - 1],
+    Ebar_i = kappa_f (Ibar1 - 3) + (1 - 3 kappa_f) (Ibar_i - 1),
     Ibar1 = tr Cbar,  Ibar_i = a_i . Cbar a_i,
 
 where a_4, a_6 are the unit fibre directions in the reference configuration
-and <x> = max(x, 0): a fibre family carries load only in tension (a zero
-fibre vector switches its family off, Ibar_i = 0). The exponent is capped
+(a zero fibre vector switches its family off, Ibar_i = 0) and kappa_f in
+[0, 1/3] is the fibres' dispersion about them (scene key `dispersion`):
+0 is perfectly aligned fibres, Holzapfel, Gasser and Ogden's 2000 law;
+1/3 an isotropic distribution (T. C. Gasser, R. W. Ogden, G. A. Holzapfel,
+J. R. Soc. Interface 3 (2006) 15-35, eq. (2.7) and (2.8)). A family
+carries load only when its mean direction is stretched, Ibar_i > 1, the
+switch as published there (a dispersed family's compressed fibres are
+then neither excluded nor counted separately: Holzapfel and Ogden,
+J. Elasticity 129 (2017) 49-68, discuss what this misses). The exponent is capped
 at `exponent_cap` so that a very stiff fibre (large k2) under a wild Newton
 iterate gives a large but finite stress instead of overflow. This module
 gives Psi_iso; the formulation adds the volumetric U(J) of volumetric.py
@@ -44,30 +53,31 @@ import kinematics
 exponent_cap = 200.0
 
 
-def fibre_energy(k1, k2, Ibar):
-    """k1/(2 k2) [exp(k2 <Ibar-1>^2) - 1], zero in compression."""
-    E = Ibar - 1.0
+def fibre_energy(k1, k2, dispersion, Ibar1, Ibar):
+    """W(Ebar) of one family, zero unless Ibar > 1."""
+    E = dispersion * (Ibar1 - 3.0) + (1.0 - 3.0 * dispersion) * (Ibar - 1.0)
     exponent = min_value(k2 * E**2, exponent_cap)
-    return conditional(gt(E, 0.0), k1 / (2.0 * k2) * (exp(exponent) - 1.0), 0.0)
+    return conditional(gt(Ibar, 1.0), k1 / (2.0 * k2) * (exp(exponent) - 1.0), 0.0)
 
 
-def isochoric_energy(F, c10, k1, k2, a4, a6):
+def isochoric_energy(F, c10, k1, k2, dispersion, a4, a6):
     """Isochoric strain energy density Psi_iso(F) [MPa]."""
     Cbar = kinematics.isochoric_right_cauchy_green(F)
-    Ibar4 = dot(a4, Cbar * a4)
-    Ibar6 = dot(a6, Cbar * a6)
-    return (c10 * (tr(Cbar) - 3.0)
-            + fibre_energy(k1, k2, Ibar4) + fibre_energy(k1, k2, Ibar6))
+    Ibar1 = tr(Cbar)
+    return (c10 * (Ibar1 - 3.0)
+            + fibre_energy(k1, k2, dispersion, Ibar1, dot(a4, Cbar * a4))
+            + fibre_energy(k1, k2, dispersion, Ibar1, dot(a6, Cbar * a6)))
 
 
-def azimuthal_isochoric_energy(F, c10, k1, k2, g4, g6, angles):
+def azimuthal_isochoric_energy(F, c10, k1, k2, dispersion, g4, g6, angles):
     """Psi_iso(F) [MPa] of an axisymmetric section, the fibre energy averaged
     over `angles` azimuths; g4, g6 hold each family's unit (or zero)
     direction in (r, z, theta) at phi_k as entries 3k to 3k+2."""
     Cbar = kinematics.isochoric_right_cauchy_green(F)
-    psi = c10 * (tr(Cbar) - 3.0)
+    Ibar1 = tr(Cbar)
+    psi = c10 * (Ibar1 - 3.0)
     for k in range(angles):
         for g in (g4, g6):
             a = as_vector([g[3 * k], g[3 * k + 1], g[3 * k + 2]])
-            psi = psi + fibre_energy(k1, k2, dot(a, Cbar * a)) / angles
+            psi = psi + fibre_energy(k1, k2, dispersion, Ibar1, dot(a, Cbar * a)) / angles
     return psi

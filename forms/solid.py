@@ -85,6 +85,7 @@ u = Coefficient(element)            # displacement [mm]
 c10 = Coefficient(cell_scalar)      # matrix stiffness [MPa]
 k1 = Coefficient(cell_scalar)       # fibre stiffness [MPa]
 k2 = Coefficient(cell_scalar)       # fibre nonlinearity [-]
+dispersion = Coefficient(cell_scalar)  # fibre dispersion kappa_f [-]
 kappa = Coefficient(cell_scalar)    # bulk modulus [MPa]
 youngs_modulus = Coefficient(cell_scalar)  # [MPa]
 poisson_ratio = Coefficient(cell_scalar)   # [-]
@@ -129,8 +130,9 @@ def hgo_isochoric_energy(F):
     """The HGO cornea's and limbus' Psi_iso; axisymmetric, its fibre energy
     averaged over the azimuth (hgo.py)."""
     if dimension == "axisymmetric":  # noqa: F821
-        return hgo.azimuthal_isochoric_energy(F, c10, k1, k2, fibre_1, fibre_2, fibre_angles)
-    return hgo.isochoric_energy(F, c10, k1, k2, fibre_1, fibre_2)
+        return hgo.azimuthal_isochoric_energy(F, c10, k1, k2, dispersion, fibre_1, fibre_2,
+                                              fibre_angles)
+    return hgo.isochoric_energy(F, c10, k1, k2, dispersion, fibre_1, fibre_2)
 
 
 def balance(w):

@@ -92,6 +92,43 @@ inline Oscillation damped_oscillation(const std::vector<double>& t, const std::v
   return o;
 }
 
+/// Parameters of forms/hgo.py's law with the volumetric kappa ln J / J.
+struct HgoLaw
+{
+  double c10, k1, k2, kappa, dispersion = 0;
+};
+
+/// Principal Cauchy stresses of the HGO law under F = diag(l), with a
+/// fibre family along each axis i where `along[i]`:
+/// sigma = kappa ln J / J I + dev(tau_bar) / J,
+/// tau_bar = 2 (C10 + sum_f kappa_f W'_f) b_bar + 2 sum_f (1 - 3 kappa_f) W'_f b_bar_ff e_f (x) e_f,
+/// W'_f = k1 E_f exp(k2 E_f^2), E_f = kappa_f (Ibar1 - 3) + (1 - 3 kappa_f)(b_bar_ff - 1),
+/// a family only where b_bar_ff > 1 (Gasser, Ogden & Holzapfel 2006).
+inline std::array<double, 3> hgo_stress(std::array<double, 3> l, const HgoLaw& m,
+                                        std::array<bool, 3> along)
+{
+  const double J = l[0] * l[1] * l[2];
+  std::array<double, 3> b, tau;
+  for (int i = 0; i < 3; ++i)
+    b[i] = std::pow(J, -2.0 / 3) * l[i] * l[i];
+  const double I1 = b[0] + b[1] + b[2], kf = m.dispersion;
+  double psi1 = m.c10;
+  std::array<double, 3> psi4{0, 0, 0};
+  for (int i = 0; i < 3; ++i)
+  {
+    if (!along[i] || b[i] <= 1)
+      continue;
+    const double E = kf * (I1 - 3) + (1 - 3 * kf) * (b[i] - 1);
+    const double w = m.k1 * E * std::exp(m.k2 * E * E);
+    psi1 += kf * w;
+    psi4[i] = (1 - 3 * kf) * w;
+  }
+  for (int i = 0; i < 3; ++i)
+    tau[i] = 2 * psi1 * b[i] + 2 * psi4[i] * b[i];
+  const double mean = (tau[0] + tau[1] + tau[2]) / 3, vol = m.kappa * std::log(J) / J;
+  return {vol + (tau[0] - mean) / J, vol + (tau[1] - mean) / J, vol + (tau[2] - mean) / J};
+}
+
 /// Where the HGO law's fibres lie in a homogeneous uniaxial test.
 enum class Fibres
 {
@@ -99,44 +136,60 @@ enum class Fibres
   transverse ///< one family along each lateral axis
 };
 
-/// Cauchy stresses (axial, lateral) of the HGO law of forms/hgo.py under
-/// F = diag(l1, l2, l2):
-/// sigma = kappa ln J / J I + dev(tau_bar) / J,
-/// tau_bar = 2 C10 b_bar + 2 psi4' (F_bar a) (x) (F_bar a) per family.
-inline std::array<double, 2> hgo_uniaxial_stress(double l1, double l2, double c10, double k1,
-                                                 double k2, double kappa,
+/// Cauchy stresses (axial, lateral) of the HGO law under F = diag(l1, l2, l2).
+inline std::array<double, 2> hgo_uniaxial_stress(double l1, double l2, const HgoLaw& m,
                                                  Fibres fibres = Fibres::axial)
 {
-  const double J = l1 * l2 * l2;
-  const double b1 = std::pow(J, -2.0 / 3) * l1 * l1, b2 = std::pow(J, -2.0 / 3) * l2 * l2;
-  // psi4' (Ibar4 - 1 = E) times Ibar4, zero in compression
-  auto fibre = [&](double b)
-  { return b > 1 ? k1 * (b - 1) * std::exp(k2 * (b - 1) * (b - 1)) * b : 0.0; };
   const bool axial = fibres == Fibres::axial;
-  const double t1 = 2 * c10 * b1 + (axial ? 2 * fibre(b1) : 0.0);
-  const double t2 = 2 * c10 * b2 + (axial ? 0.0 : 2 * fibre(b2));
-  const double mean = (t1 + 2 * t2) / 3;
-  const double vol = kappa * std::log(J) / J;
-  return {vol + (t1 - mean) / J, vol + (t2 - mean) / J};
+  auto s = hgo_stress({l1, l2, l2}, m, {axial, !axial, !axial});
+  return {s[0], s[1]};
 }
 
 /// Stretches (l1, l2) under a uniaxial Cauchy stress T: sigma_22 = 0 is
 /// solved for l2 inside a bisection on l1.
 inline std::array<double, 2> hgo_uniaxial_stretches(double T, double c10, double k1, double k2,
                                                     double kappa,
-                                                    Fibres fibres = Fibres::axial)
+                                                    Fibres fibres = Fibres::axial,
+                                                    double dispersion = 0)
 {
+  const HgoLaw m{c10, k1, k2, kappa, dispersion};
   auto lateral = [&](double l1)
   {
-    return bisect([&](double l2)
-                  { return hgo_uniaxial_stress(l1, l2, c10, k1, k2, kappa, fibres)[1]; },
-                  0.5, 1.5);
+    return bisect([&](double l2) { return hgo_uniaxial_stress(l1, l2, m, fibres)[1]; }, 0.5,
+                  1.5);
   };
   const double l1 = bisect(
-      [&](double l1)
-      { return hgo_uniaxial_stress(l1, lateral(l1), c10, k1, k2, kappa, fibres)[0] - T; },
-      0.7, 1.5);
+      [&](double l1) { return hgo_uniaxial_stress(l1, lateral(l1), m, fibres)[0] - T; }, 0.7,
+      1.5);
   return {l1, lateral(l1)};
+}
+
+/// Stretches (l1, l2, l3) of the HGO law with one family along x under an
+/// equibiaxial Cauchy stress T in x and y (sigma_33 = 0): l3 by bisection
+/// inside a Newton iteration on (l1, l2) with a finite-difference Jacobian.
+inline std::array<double, 3> hgo_equibiaxial_stretches(double T, const HgoLaw& m)
+{
+  auto thickness = [&](double l1, double l2)
+  { return bisect([&](double l3) { return hgo_stress({l1, l2, l3}, m, {true, false, false})[2]; },
+                  0.3, 1.5); };
+  auto residual = [&](double l1, double l2) -> std::array<double, 2>
+  {
+    auto s = hgo_stress({l1, l2, thickness(l1, l2)}, m, {true, false, false});
+    return {s[0] - T, s[1] - T};
+  };
+  double l1 = 1, l2 = 1;
+  const double h = 1e-7;
+  for (int it = 0; it < 50; ++it)
+  {
+    auto r = residual(l1, l2), r1 = residual(l1 + h, l2), r2 = residual(l1, l2 + h);
+    const double a = (r1[0] - r[0]) / h, b = (r2[0] - r[0]) / h, c = (r1[1] - r[1]) / h,
+                 d = (r2[1] - r[1]) / h, det = a * d - b * c;
+    const double d1 = (d * r[0] - b * r[1]) / det, d2 = (a * r[1] - c * r[0]) / det;
+    l1 -= d1, l2 -= d2;
+    if (std::abs(d1) + std::abs(d2) < 1e-14)
+      break;
+  }
+  return {l1, l2, thickness(l1, l2)};
 }
 
 } // namespace nct::test

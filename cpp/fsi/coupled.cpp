@@ -352,7 +352,8 @@ void Coupled::add_jacobian(Mat A)
     _timings[part] += now - t;
     t = now;
   };
-  fem::assemble_matrix(solver::add_block(A, _solid_block), _solid.jacobian_form(), {});
+  for (const auto* J : _solid.jacobian_forms())
+    fem::assemble_matrix(solver::add_block(A, _solid_block), *J, {});
   lap("solid");
   fem::assemble_matrix(solver::add_block(A, _air_block), _air.jacobian_form(), {});
   lap("air");

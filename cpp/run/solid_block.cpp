@@ -276,6 +276,8 @@ void SolidBlock::add_frame(double t, double dt, const solver::NewtonReport& repo
   state.insert(state.end(), columns.begin(), columns.end());
   state.push_back({"strain_energy_mJ", problem.strain_energy()});
   state.push_back({"kinetic_energy_mJ", problem.kinetic_energy()});
+  if (problem.viscoelastic())
+    state.push_back({"viscous_work_mJ", problem.viscous_work()});
   frames->add(t, state,
               {{"dt_ms", dt},
                {"newton_iterations", double(report.iterations)},

@@ -65,6 +65,8 @@ std::string kind_name(const Key& key)
     return "a string";
   case Kind::strings:
     return "an array of strings";
+  case Kind::reals:
+    return "an array of numbers";
   case Kind::points:
     return "an array of [x, y, z] points";
   case Kind::options:
@@ -90,11 +92,12 @@ std::string accepted(const Key& key)
     for (std::size_t i = 0; i < key.choices.size(); ++i)
       what += (i ? ", \"" : " \"") + key.choices[i] + "\"";
   }
-  else if (key.kind == Kind::integer || key.kind == Kind::real)
+  else if (key.kind == Kind::integer || key.kind == Kind::real || key.kind == Kind::reals)
   {
     bool lo = std::isfinite(key.min), hi = std::isfinite(key.max);
     if (lo && hi)
-      what += " in [" + format_number(key.min) + ", " + format_number(key.max) + "]";
+      what += std::string(key.kind == Kind::reals ? ", each" : "") + " in ["
+              + format_number(key.min) + ", " + format_number(key.max) + "]";
     else if (lo)
       what += " >= " + format_number(key.min);
     else if (hi)
@@ -192,6 +195,15 @@ bool check_value(const Key& key, const std::string& name, const toml::node& n,
       if (!(n.is_array() && n.as_array()->empty()))
         return fail("got " + source_text(n));
     return true;
+  case Kind::reals:
+  {
+    bool ok = n.is_array();
+    if (ok)
+      for (const auto& x : *n.as_array())
+        ok = ok && x.is_number() && std::isfinite(number(x)) && number(x) >= key.min
+             && number(x) <= key.max;
+    return ok || fail("got " + source_text(n));
+  }
   case Kind::points:
   {
     bool ok = n.is_array();

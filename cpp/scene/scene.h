@@ -71,6 +71,7 @@ enum class Kind
   choice,  ///< a string from a fixed list
   string,
   strings, ///< an array of strings
+  reals,   ///< an array of numbers, each in the key's range
   points,  ///< an array of [x, y, z]
   options  ///< a free table of PETSc options (name = value)
 };

@@ -43,6 +43,12 @@ void Visitor::assign(const toml::node& n, Field field)
           for (const auto& s : *n.as_array())
             f->push_back(s.as_string()->get());
         }
+        else if constexpr (std::is_same_v<T, std::vector<double>>)
+        {
+          f->clear();
+          for (const auto& x : *n.as_array())
+            f->push_back(number(x));
+        }
         else if constexpr (std::is_same_v<T, Points>)
         {
           f->clear();

@@ -51,6 +51,8 @@ public:
   {
     entry(key(e, Kind::strings), &field);
   }
+  /// An array of numbers, each in [e.min, e.max].
+  void reals(const Entry& e, std::vector<double>& field) { entry(key(e, Kind::reals), &field); }
   void points(const Entry& e, Points& field) { entry(key(e, Kind::points), &field); }
   void options(const Entry& e, Options& field) { entry(key(e, Kind::options), &field); }
   /// A string from a fixed list, held as the value paired with it.
@@ -76,7 +78,7 @@ public:
 
   /// A field of one of the kinds a key holds.
   using Field = std::variant<double*, int*, bool*, std::string*, std::vector<std::string>*,
-                             Points*, Options*>;
+                             std::vector<double>*, Points*, Options*>;
   /// Set `field` from a TOML value (of the field's kind, as validated).
   static void assign(const toml::node& value, Field field);
 

@@ -115,6 +115,22 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
       if (std::hypot(d[0], d[1], d[2]) == 0)
         at("material." + part + ".fibre_directions",
            "key 'material." + part + ".fibre_directions': a zero vector has no direction");
+    const std::string visco = "material." + part + ".viscoelasticity.";
+    if (e.refused(visco + "relative_moduli") || e.refused(visco + "relaxation_times"))
+      continue; // already said
+    if (m.relative_moduli.size() != m.relaxation_times.size())
+      at(visco + "relaxation_times",
+         "key '" + visco + "relaxation_times': one relaxation time per relative modulus ("
+             + std::to_string(m.relative_moduli.size()) + " moduli, "
+             + std::to_string(m.relaxation_times.size()) + " times)");
+    else if (m.relative_moduli.size() > solid::max_prony_terms)
+      at(visco + "relative_moduli", "key '" + visco + "relative_moduli': at most "
+                                        + std::to_string(solid::max_prony_terms)
+                                        + " Prony terms");
+    if (!m.relative_moduli.empty() && m.law != solid::Law::hgo
+        && m.law != solid::Law::neo_hookean)
+      at(visco + "relative_moduli", "key '" + visco + "relative_moduli': the matrix relaxes in "
+                                        "the hgo and neo_hookean laws only");
   }
   check_section(scene, s, e);
   if (eye)

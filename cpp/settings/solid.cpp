@@ -70,6 +70,20 @@ void visit(scene::Visitor& v, Material& m, const std::string& part)
           d.when},
          m.k1);
   v.real({k + "k2", d.k2, "", 1e-3, 1e4, "fibre nonlinearity k2 (hgo)", d.when}, m.k2);
+  v.real({k + "dispersion", "0", "", 0, 1.0 / 3,
+          "fibre dispersion kappa_f of Gasser, Ogden and Holzapfel 2006 (hgo): 0 = fibres "
+          "aligned with their directions (the 2000 law), 1/3 = isotropic",
+          d.when},
+         m.dispersion);
+  v.reals({k + "viscoelasticity.relative_moduli", "[]", "", 0, 1e3,
+           "viscoelasticity of the matrix (hgo, neo_hookean; forms/viscoelasticity.py): each "
+           "Prony term's modulus beta_k relative to the long-time one, so that a sudden strain "
+           "meets (1 + sum beta_k) C10; none: elastic",
+           d.when},
+          m.relative_moduli);
+  v.reals({k + "viscoelasticity.relaxation_times", "[]", "ms", 1e-6, 1e9,
+           "each Prony term's relaxation time tau_k, as many as relative_moduli", d.when},
+          m.relaxation_times);
   v.real({k + "kappa", d.kappa, "MPa", 1e-3, 1e7,
           "bulk modulus of the volumetric penalty (hgo, neo_hookean)", d.when},
          m.kappa);

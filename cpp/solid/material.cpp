@@ -16,10 +16,13 @@ CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
 {
   using dolfinx::fem::Function;
   CellFields f;
-  for (const char* name : {"c10", "k1", "k2", "kappa", "youngs_modulus",
+  for (const char* name : {"c10", "k1", "k2", "dispersion", "kappa", "youngs_modulus",
                            "poisson_ratio", "density", "is_hgo", "is_neo_hookean",
                            "is_saint_venant_kirchhoff", "is_compressible_neo_hookean"})
     f[name] = std::make_shared<Function<double>>(scalar);
+  for (std::size_t k = 1; k <= max_prony_terms; ++k)
+    for (const char* name : {"modulus_", "relaxation_time_"})
+      f[name + std::to_string(k)] = std::make_shared<Function<double>>(scalar);
   for (const char* name : {"fibre_1", "fibre_2"})
     f[name] = std::make_shared<Function<double>>(vector);
   f["fibre_1"]->name = "fibre_1";
@@ -51,6 +54,7 @@ CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
     f["c10"]->x()->mutable_array()[d] = m.c10;
     f["k1"]->x()->mutable_array()[d] = hgo ? m.k1 : 0.0;
     f["k2"]->x()->mutable_array()[d] = hgo ? m.k2 : 1.0;
+    f["dispersion"]->x()->mutable_array()[d] = hgo ? m.dispersion : 0.0;
     f["kappa"]->x()->mutable_array()[d] = m.kappa;
     f["youngs_modulus"]->x()->mutable_array()[d] = m.youngs_modulus;
     f["poisson_ratio"]->x()->mutable_array()[d] = m.poisson_ratio;
@@ -61,6 +65,15 @@ CellFields cell_fields(const dolfinx::mesh::MeshTags<std::int32_t>& cell_groups,
         = m.law == Law::saint_venant_kirchhoff;
     f["is_compressible_neo_hookean"]->x()->mutable_array()[d]
         = m.law == Law::compressible_neo_hookean;
+    // Unused Prony terms: beta = 0 (with a benign tau).
+    for (std::size_t k = 0; k < max_prony_terms; ++k)
+    {
+      const bool used = k < m.relative_moduli.size();
+      f["modulus_" + std::to_string(k + 1)]->x()->mutable_array()[d]
+          = used ? m.relative_moduli[k] : 0.0;
+      f["relaxation_time_" + std::to_string(k + 1)]->x()->mutable_array()[d]
+          = used ? m.relaxation_times[k] : 1.0;
+    }
 
     std::array<double, 3> X{0, 0, 0};
     auto nodes = xdofs.links(c);

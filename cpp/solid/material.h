@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <dolfinx/fem/Function.h>
 #include <dolfinx/mesh/MeshTags.h>
@@ -26,11 +27,18 @@ enum class Law : std::int32_t
   compressible_neo_hookean = 4
 };
 
+/// The most Prony terms a part's viscoelasticity may have (forms/viscoelasticity.py).
+constexpr std::size_t max_prony_terms = 3;
+
 /// Parameters of one part (a volume group), read from [material.<part>].
 struct Material
 {
   Law law;
   double c10, k1, k2, kappa, youngs_modulus, poisson_ratio;
+  double dispersion; ///< the HGO fibres' kappa_f, in [0, 1/3]
+  /// Prony terms of the matrix's viscoelasticity (forms/viscoelasticity.py):
+  /// relative moduli beta_k [-] and relaxation times tau_k [ms]; none: elastic.
+  std::vector<double> relative_moduli, relaxation_times;
   double density;   ///< [g/mm^3]
   double viscosity; ///< a fluid's [MPa ms]
   std::vector<std::array<double, 3>> fibre_directions; ///< file meshes only

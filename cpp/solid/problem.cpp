@@ -279,6 +279,9 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
       *k.strain_energy, {}, pick(*k.strain_energy), {}, subdomains, m.mesh));
   _kinetic_energy = std::make_shared<fem::Form<double>>(fem::create_form<double>(
       *k.kinetic_energy, {}, pick(*k.kinetic_energy), {}, subdomains, m.mesh));
+  if (std::any_of(materials.begin(), materials.end(),
+                  [](const auto& m) { return !m.second.relative_moduli.empty(); }))
+    _viscoelasticity = std::make_unique<Viscoelasticity>(element, coeffs, constants, *_law_tags);
   for (std::size_t c = 0; c < boundaries.cavities.size(); ++c)
   {
     _volumes.push_back(std::make_shared<fem::Form<double>>(fem::create_form<double>(
@@ -389,6 +392,8 @@ void Problem::residual(la::Vector<double>& b)
 {
   std::fill(b.mutable_array().begin(), b.mutable_array().end(), 0.0);
   fem::assemble_vector<double>(b.mutable_array(), _dynamic ? *_R_dynamic : *_R);
+  if (_dynamic && _viscoelasticity)
+    _viscoelasticity->add_residual(b.mutable_array());
   b.scatter_rev(std::plus<double>());
   if (_dynamic && _preload)
   {
@@ -403,14 +408,30 @@ void Problem::residual(la::Vector<double>& b)
 void Problem::jacobian(Mat A)
 {
   MatZeroEntries(A);
-  const auto& J = _dynamic ? *_J_dynamic : *_J;
-  fem::assemble_matrix(la::petsc::Matrix::set_block_fn(A, ADD_VALUES), J, _bcs);
+  const auto forms = jacobian_forms();
+  for (const auto* J : forms)
+    fem::assemble_matrix(la::petsc::Matrix::set_block_fn(A, ADD_VALUES), *J, _bcs);
+  const auto& J = *forms.front();
   MatAssemblyBegin(A, MAT_FLUSH_ASSEMBLY);
   MatAssemblyEnd(A, MAT_FLUSH_ASSEMBLY);
   fem::set_diagonal<double>(la::petsc::Matrix::set_fn(A, INSERT_VALUES),
                             *J.function_spaces()[0], _bcs);
   MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
   MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
+}
+
+std::vector<const fem::Form<double>*> Problem::jacobian_forms() const
+{
+  if (!_dynamic)
+    return {_J.get()};
+  if (_viscoelasticity)
+    return {_J_dynamic.get(), &_viscoelasticity->jacobian_form()};
+  return {_J_dynamic.get()};
+}
+
+double Problem::viscous_work() const
+{
+  return _viscoelasticity ? _viscoelasticity->work() * _symmetry_factor : 0.0;
 }
 
 void Problem::cavity_load(std::size_t c, la::Vector<double>& b)
@@ -469,6 +490,8 @@ void Problem::start_dynamics(const TimeStep& step)
   v_old->x()->set(0.0);
   a_old->x()->set(0.0);
   _dynamic = true;
+  if (_viscoelasticity)
+    _viscoelasticity->start();
 }
 
 void Problem::release_support()
@@ -489,6 +512,8 @@ void Problem::save(io::CheckpointWriter& checkpoint) const
   checkpoint.add("solid/u_old", *u_old);
   checkpoint.add("solid/v_old", *v_old);
   checkpoint.add("solid/a_old", *a_old);
+  if (_viscoelasticity)
+    _viscoelasticity->save(checkpoint);
   if (_support)
   {
     checkpoint.add("solid/u_support", *_u_support);
@@ -509,6 +534,8 @@ void Problem::restore(const io::CheckpointReader& checkpoint, const std::optiona
   checkpoint.read("solid/u_old", *u_old);
   checkpoint.read("solid/v_old", *v_old);
   checkpoint.read("solid/a_old", *a_old);
+  if (_viscoelasticity)
+    _viscoelasticity->restore(checkpoint);
   if (_support)
   {
     checkpoint.read("solid/u_support", *_u_support);
@@ -526,6 +553,8 @@ void Problem::restore(const io::CheckpointReader& checkpoint, const std::optiona
 
 void Problem::advance()
 {
+  if (_viscoelasticity)
+    _viscoelasticity->advance();
   const double dt = _time["dt"]->value[0], beta = _time["beta"]->value[0],
                gamma = _time["gamma"]->value[0];
   auto un = u->x()->array();

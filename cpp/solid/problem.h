@@ -21,6 +21,7 @@
 #include "meshio/model.h"
 #include "section/section.h"
 #include "solid/material.h"
+#include "solid/viscoelasticity.h"
 
 namespace nct::solid
 {
@@ -138,8 +139,15 @@ public:
   std::array<double, 3> velocity_coefficients() const;
 
   /// dR/du of the current phase (quasi-static or dynamic), without
-  /// Dirichlet conditions: for assembly into a coupled system.
-  const dolfinx::fem::Form<double>& jacobian_form() const { return _dynamic ? *_J_dynamic : *_J; }
+  /// Dirichlet conditions, as the sum of these forms' matrices: for
+  /// assembly into a coupled system.
+  std::vector<const dolfinx::fem::Form<double>*> jacobian_forms() const;
+  /// The work done on the matrix's viscous branches since the dynamics
+  /// started [mJ], whole model (0 for an elastic model): over a load cycle
+  /// that ends relaxed, the energy dissipated.
+  double viscous_work() const;
+  /// Whether a part's matrix is viscoelastic (forms/viscoelasticity.py).
+  bool viscoelastic() const { return _viscoelasticity != nullptr; }
   /// Per local scalar entry of u (owned and ghost): 1 on a Dirichlet dof
   /// (whose value is always zero).
   std::vector<std::int8_t> dirichlet_marker() const;
@@ -208,6 +216,8 @@ private:
 
   std::shared_ptr<dolfinx::fem::Form<double>> _R, _J, _R_dynamic, _J_dynamic,
       _strain_energy, _kinetic_energy;
+  /// The matrix's viscoelasticity in the dynamics; null when elastic.
+  std::unique_ptr<Viscoelasticity> _viscoelasticity;
   bool _dynamic = false;
   /// dt, alpha_m, alpha_f, beta, gamma, damping
   std::map<std::string, std::shared_ptr<dolfinx::fem::Constant<double>>> _time;
