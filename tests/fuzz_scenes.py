@@ -62,6 +62,8 @@ class Key:
             self.kind = "boolean"
         elif accepted.startswith("an array of strings"):
             self.kind = "strings"
+        elif accepted.startswith("an array of numbers"):
+            self.kind = "reals"
         elif accepted.startswith("an array of [x, y, z]"):
             self.kind = "points"
         elif accepted.startswith("a table"):
@@ -182,11 +184,14 @@ ACCEPTS = {
     "choice": {"string"},
     "string": {"string"},
     "strings": set(),
+    "reals": set(),
     "points": set(),
     "options": set(),
 }
 BAD_ARRAYS = {
     "strings": ["[1, 2]", '[["a"]]', '["a", 1]', "[{ a = 1 }]", "[true]", "[1979-05-27]"],
+    "reals": ['["a"]', "[[1.0]]", '[1.0, "a"]', "[true]", "[{ x = 1 }]", "[nan]", "[inf]",
+              "[1979-05-27]"],
     "points": ["[1, 2, 3]", "[[1, 2]]", "[[1, 2, 3, 4]]", '[["a", 0, 0]]', "[[true, 0, 0]]",
                "[[]]", "[[[1, 2, 3]]]", "[[1, 2, 3], [1, 2]]", "[{ x = 1 }]"],
     "options": ["{ a = { b = 1 } }", "{ a = [1] }", "{ a = 1979-05-27 }", "[1]", '"-ksp_type cg"'],
@@ -195,7 +200,7 @@ BAD_ARRAYS = {
 
 def wrong_type(rng, key):
     choices = [v for t, vs in TYPE_SAMPLES.items() if t not in ACCEPTS[key.kind] for v in vs]
-    if key.kind in ("strings", "points", "options"):
+    if key.kind in ("strings", "reals", "points", "options"):
         choices = [v for v in choices if v not in ("{}",) and not v.startswith(("[", "{"))]
         choices += BAD_ARRAYS[key.kind] * 2
     return rng.choice(choices)
@@ -356,8 +361,10 @@ def m_wrong_type(c):
 
 
 def m_out_of_range(c):
-    k, s, leaf = c.key(kinds=("integer", "real"))
+    k, s, leaf = c.key(kinds=("integer", "real", "reals"))
     v = out_of_range(c.rng, k)
+    if k.kind == "reals":
+        v = "[%s]" % v
     return c.set(s, leaf, v), [], True, "%s.%s in [%s, %s] = %s" % (s, leaf, k.lo, k.hi, v)
 
 
