@@ -66,6 +66,40 @@ void check_section(const scene::Scene& scene, const Settings& s, Errors& e)
 
 /// Cross-checks of the settings that no single key can make: contradictory
 /// effects, missing files.
+/// One part's material: its law where it may be, its fibres, its Prony terms.
+void check_material(const scene::Scene& scene, const std::string& part, const solid::Material& m,
+                    bool eye, Errors& e)
+{
+  auto at = [&](const std::string& key, const std::string& what) { e.at(scene, key, what); };
+  if (eye && m.law == solid::Law::fluid)
+    at("material." + part + ".model",
+       "key 'material." + part + ".model': \"fluid\" is for a file mesh's volume groups; the "
+       "eye's air is the nozzle's (puff.load = \"air\" or \"fsi\")");
+  if (m.fibre_directions.size() > 2)
+    at("material." + part + ".fibre_directions",
+       "key 'material." + part + ".fibre_directions': at most two fibre families");
+  for (const auto& d : m.fibre_directions)
+    if (std::hypot(d[0], d[1], d[2]) == 0)
+      at("material." + part + ".fibre_directions",
+         "key 'material." + part + ".fibre_directions': a zero vector has no direction");
+  const std::string visco = "material." + part + ".viscoelasticity.";
+  if (e.refused(visco + "relative_moduli") || e.refused(visco + "relaxation_times"))
+    return; // already said
+  if (m.relative_moduli.size() != m.relaxation_times.size())
+    at(visco + "relaxation_times",
+       "key '" + visco + "relaxation_times': one relaxation time per relative modulus ("
+           + std::to_string(m.relative_moduli.size()) + " moduli, "
+           + std::to_string(m.relaxation_times.size()) + " times)");
+  else if (m.relative_moduli.size() > solid::max_prony_terms)
+    at(visco + "relative_moduli", "key '" + visco + "relative_moduli': at most "
+                                      + std::to_string(solid::max_prony_terms)
+                                      + " Prony terms");
+  if (!m.relative_moduli.empty() && m.law != solid::Law::hgo
+      && m.law != solid::Law::neo_hookean)
+    at(visco + "relative_moduli", "key '" + visco + "relative_moduli': the matrix relaxes in "
+                                      "the hgo and neo_hookean laws only");
+}
+
 void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
 {
   const bool eye = s.mesh.eye();
@@ -103,35 +137,7 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
         break;
       }
   for (const auto& [part, m] : s.materials)
-  {
-    if (eye && m.law == solid::Law::fluid)
-      at("material." + part + ".model",
-         "key 'material." + part + ".model': \"fluid\" is for a file mesh's volume groups; the "
-         "eye's air is the nozzle's (puff.load = \"air\" or \"fsi\")");
-    if (m.fibre_directions.size() > 2)
-      at("material." + part + ".fibre_directions",
-         "key 'material." + part + ".fibre_directions': at most two fibre families");
-    for (const auto& d : m.fibre_directions)
-      if (std::hypot(d[0], d[1], d[2]) == 0)
-        at("material." + part + ".fibre_directions",
-           "key 'material." + part + ".fibre_directions': a zero vector has no direction");
-    const std::string visco = "material." + part + ".viscoelasticity.";
-    if (e.refused(visco + "relative_moduli") || e.refused(visco + "relaxation_times"))
-      continue; // already said
-    if (m.relative_moduli.size() != m.relaxation_times.size())
-      at(visco + "relaxation_times",
-         "key '" + visco + "relaxation_times': one relaxation time per relative modulus ("
-             + std::to_string(m.relative_moduli.size()) + " moduli, "
-             + std::to_string(m.relaxation_times.size()) + " times)");
-    else if (m.relative_moduli.size() > solid::max_prony_terms)
-      at(visco + "relative_moduli", "key '" + visco + "relative_moduli': at most "
-                                        + std::to_string(solid::max_prony_terms)
-                                        + " Prony terms");
-    if (!m.relative_moduli.empty() && m.law != solid::Law::hgo
-        && m.law != solid::Law::neo_hookean)
-      at(visco + "relative_moduli", "key '" + visco + "relative_moduli': the matrix relaxes in "
-                                        "the hgo and neo_hookean laws only");
-  }
+    check_material(scene, part, m, eye, e);
   check_section(scene, s, e);
   if (eye)
     return;
