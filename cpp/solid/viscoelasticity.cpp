@@ -132,6 +132,9 @@ Viscoelasticity::Viscoelasticity(
     return std::make_shared<fem::Expression<double>>(
         fem::create_expression<double>(*e, coeffs, constants, mesh));
   };
+  const std::int32_t owned = mesh->topology().index_map(mesh->topology().dim())->size_local();
+  _cells.resize(owned);
+  std::iota(_cells.begin(), _cells.end(), 0);
   _stress_new = expression(k.stress_new);
   _overstress_new = expression(k.overstress_new);
 }
@@ -141,10 +144,7 @@ void Viscoelasticity::evaluate(
     const std::vector<std::shared_ptr<fem::Function<double>>>& fields) const
 {
   const auto& space = *fields.front()->function_space();
-  const auto& mesh = *space.mesh();
-  const std::int32_t n = mesh.topology().index_map(mesh.topology().dim())->size_local();
-  std::vector<std::int32_t> cells(n);
-  std::iota(cells.begin(), cells.end(), 0);
+  const auto n = static_cast<std::int32_t>(_cells.size());
   const std::size_t points = e.X().second[0], size = e.value_size();
   struct Table
   {
@@ -152,7 +152,7 @@ void Viscoelasticity::evaluate(
     std::vector<double> data;
     std::size_t cols;
   } values{std::vector<double>(n * points * size), points * size};
-  e.eval(std::span<const std::int32_t>(cells), values);
+  e.eval(std::span<const std::int32_t>(_cells), values);
   // A blocked quadrature space: point p of cell c holds dof cell_dofs(c)[p];
   // field f takes entries 6f to 6f+5 of the expression's value.
   const auto& dofmap = *space.dofmap();

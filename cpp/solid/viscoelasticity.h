@@ -73,6 +73,7 @@ private:
   /// A history field's values, one block per owned cell (points x 6).
   std::vector<double> cell_blocks(const dolfinx::fem::Function<double>& f) const;
 
+  std::vector<std::int32_t> _cells; ///< the owned cells, where the history is evaluated
   std::shared_ptr<dolfinx::fem::Function<double>> _stress_old;
   std::vector<std::shared_ptr<dolfinx::fem::Function<double>>> _overstress_old;
   std::shared_ptr<dolfinx::fem::Expression<double>> _stress_new, _overstress_new;
