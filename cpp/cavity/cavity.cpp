@@ -49,31 +49,63 @@ solver::System Open::system()
 }
 
 Closed::Closed(solid::Problem& problem, std::vector<double> pressures)
-    : _problem(problem), _pressures(std::move(pressures)),
-      _targets(problem.cavity_volumes())
+    : _problem(problem), _unknowns(std::move(pressures)), _targets(problem.cavity_volumes())
 {
 }
 
-void Closed::apply() { _problem.set_cavity_pressures(_pressures); }
+Closed::Closed(solid::Problem& problem, std::vector<double> pressures,
+               std::vector<double> targets, std::vector<double> forces)
+    : _problem(problem), _unknowns(std::move(pressures)), _targets(std::move(targets))
+{
+  _unknowns.insert(_unknowns.end(), forces.begin(), forces.end());
+}
+
+std::vector<double>* Closed::unknowns()
+{
+  // The humors' forces join the unknowns when the dynamics start.
+  const auto* humor = _problem.humor_inertia();
+  _unknowns.resize(_targets.size() + (humor ? humor->size() : 0), 0.0);
+  return &_unknowns;
+}
+
+void Closed::apply()
+{
+  const std::size_t n = _targets.size();
+  _problem.set_cavity_pressures(pressures());
+  if (auto* humor = _problem.humor_inertia())
+    humor->set_forces(std::span<const double>(_unknowns).subspan(n));
+}
 
 void Closed::constraints(std::vector<double>& g) const
 {
   const auto volumes = _problem.cavity_volumes();
   const double s = _problem.symmetry_factor();
-  for (std::size_t c = 0; c < g.size(); ++c)
+  const std::size_t n = _targets.size();
+  for (std::size_t c = 0; c < n; ++c)
     g[c] = (_targets[c] - volumes[c]) / s;
+  if (const auto* humor = _problem.humor_inertia())
+    humor->constraints(std::span<double>(g).subspan(n));
 }
 
 void Closed::border(std::vector<dolfinx::la::Vector<double>>& B,
-                    std::vector<dolfinx::la::Vector<double>>& C) const
+                    std::vector<dolfinx::la::Vector<double>>& C, std::vector<double>& D) const
 {
-  for (std::size_t c = 0; c < B.size(); ++c)
+  const std::size_t n = _targets.size(), ny = B.size();
+  for (std::size_t c = 0; c < n; ++c)
   {
     _problem.cavity_load(c, B[c]);
     _problem.volume_derivative(c, C[c]);
     for (double& v : C[c].mutable_array())
       v = -v;
   }
+  if (const auto* humor = _problem.humor_inertia())
+    for (std::size_t j = 0; n + j < ny; ++j)
+    {
+      _problem.humor_border(j, B[n + j]);
+      std::copy(B[n + j].array().begin(), B[n + j].array().end(),
+                C[n + j].mutable_array().begin());
+      D[(n + j) * ny + n + j] = humor->compliance(j);
+    }
 }
 
 solver::System Closed::system()
@@ -84,13 +116,13 @@ solver::System Closed::system()
     _problem.residual(b);
     constraints(g);
   };
-  return with_checks({_problem.u->x().get(), &_pressures, residual,
+  return with_checks({_problem.u->x().get(), unknowns(), residual,
                       [this](Mat A)
                       {
                         apply();
                         _problem.jacobian(A);
                       },
-                      [this](auto& B, auto& C) { border(B, C); }, nullptr, nullptr},
+                      [this](auto& B, auto& C, auto& D) { border(B, C, D); }, nullptr, nullptr},
                      _problem);
 }
 

@@ -427,10 +427,10 @@ solver::System Coupled::system(cavity::Closed* closed)
   };
   if (closed)
     s.border = [this, closed](std::vector<la::Vector<double>>& B,
-                              std::vector<la::Vector<double>>& C)
+                              std::vector<la::Vector<double>>& C, std::vector<double>& D)
     {
       std::vector<la::Vector<double>> Bs(B.size(), *_b_solid), Cs(C.size(), *_b_solid);
-      closed->border(Bs, Cs);
+      closed->border(Bs, Cs, D);
       for (std::size_t i = 0; i < B.size(); ++i)
       {
         std::fill(B[i].mutable_array().begin(), B[i].mutable_array().end(), 0.0);

@@ -403,7 +403,10 @@ CouplingBlock::Energy::State CouplingBlock::energy_state() const
 {
   const auto& solid = _solid.problem;
   const double kinetic = solid.kinetic_energy();
-  return {kinetic, kinetic + solid.strain_energy(), solid.cavity_volumes(),
+  // The humors' kinetic energy is the work their inertial pressure took.
+  const auto* humor = solid.humor_inertia();
+  const double humor_kinetic = humor ? humor->kinetic_energy() * solid.symmetry_factor() : 0.0;
+  return {kinetic, kinetic + humor_kinetic + solid.strain_energy(), solid.cavity_volumes(),
           _solid.cavity_pressures()};
 }
 

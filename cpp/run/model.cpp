@@ -367,6 +367,8 @@ Model make_model(MPI_Comm comm, const Input& in)
     MeshSetup& m = *solid_mesh;
     if (s.solid.support.springs)
       m.boundaries.support = solid::Support{s.solid.support.stiffness, s.solid.support.damping};
+    if (s.solid.cavity.humor_inertia)
+      m.boundaries.humor_density = s.solid.cavity.humor_density;
     for (auto& p : s.solid.probes)
     {
       m.probes.push_back(p);

@@ -87,12 +87,24 @@ solver::System SolidBlock::system() { return _closed ? _closed->system() : _open
 biomarkers::Columns SolidBlock::cavity_state() const
 {
   const auto volumes = problem.cavity_volumes();
-  const auto& pressures = _closed ? _closed->pressures() : _open_pressures;
+  const auto pressures = cavity_pressures();
+  // With the humors' mass the multiplier is the pressure at the volume's
+  // origin; the humor's mean pressure is reported (forms/humor_inertia.py).
+  const auto* humor = problem.humor_inertia();
   biomarkers::Columns state;
   for (std::size_t c = 0; c < volumes.size(); ++c)
   {
-    state.push_back({mesh.cavity_names[c] + "_pressure_mmHg", pressures[c] / mmHg});
+    const double p = pressures[c] + (humor ? humor->mean_pressure_shift(c) : 0.0);
+    state.push_back({mesh.cavity_names[c] + "_pressure_mmHg", p / mmHg});
     state.push_back({mesh.cavity_names[c] + "_volume_mm3", volumes[c]});
+  }
+  if (humor)
+  {
+    // Each cavity's humor's axial inertial force on the eye, whole model.
+    for (std::size_t j = 0; j < humor->size(); ++j)
+      if (humor->component(j) == 1)
+        state.push_back({mesh.cavity_names[humor->cavity(j)] + "_humor_inertia_N",
+                         -humor->forces()[j] * problem.symmetry_factor()});
   }
   return state;
 }
@@ -227,7 +239,7 @@ biomarkers::Columns SolidBlock::record(nlohmann::json& step, std::string& text, 
   const auto& names = mesh.probe_names;
   if (!u.empty())
     text += format("  %s u %+.5f %+.5f %+.5f mm", names[0].c_str(), u[0][0], u[0][1], u[0][2]);
-  for (std::size_t c = 0; 2 * c < cavities.size(); ++c)
+  for (std::size_t c = 0; c < mesh.cavity_names.size(); ++c)
     text += format("  %s %.3f mmHg %.4f mm3", mesh.cavity_names[c].c_str(),
                    cavities[2 * c].second, cavities[2 * c + 1].second);
   for (const auto& [name, value] : cavities)
@@ -278,6 +290,9 @@ void SolidBlock::add_frame(double t, double dt, const solver::NewtonReport& repo
   state.push_back({"kinetic_energy_mJ", problem.kinetic_energy()});
   if (problem.viscoelastic())
     state.push_back({"viscous_work_mJ", problem.viscous_work()});
+  if (const auto* humor = problem.humor_inertia())
+    state.push_back(
+        {"humor_kinetic_energy_mJ", humor->kinetic_energy() * problem.symmetry_factor()});
   frames->add(t, state,
               {{"dt_ms", dt},
                {"newton_iterations", double(report.iterations)},
@@ -317,7 +332,9 @@ nlohmann::json SolidBlock::save(io::CheckpointWriter& writer) const
                        {"fields", _output ? _output->fields.state() : nlohmann::json()},
                        {"frames", frames ? frames->state() : nlohmann::json()}};
   if (_closed)
-    state["closed"] = {{"pressures", _closed->pressures()}, {"targets", _closed->targets()}};
+    state["closed"] = {{"pressures", _closed->pressures()},
+                       {"targets", _closed->targets()},
+                       {"forces", _closed->forces()}};
   return state;
 }
 
@@ -337,7 +354,8 @@ void SolidBlock::restore(const io::CheckpointReader& checkpoint, const nlohmann:
   problem.restore(checkpoint, step);
   if (state.contains("closed"))
     _closed.emplace(problem, state["closed"].at("pressures").get<std::vector<double>>(),
-                    state["closed"].at("targets").get<std::vector<double>>());
+                    state["closed"].at("targets").get<std::vector<double>>(),
+                    state["closed"].value("forces", std::vector<double>()));
   else if (problem.cavities() > 0)
     problem.set_cavity_pressures(_open_pressures);
   _output.emplace(folder, mesh, problem, probes);

@@ -59,7 +59,7 @@ public:
   /// Each cavity's pressure [mmHg] and volume [mm^3] now.
   biomarkers::Columns cavity_state() const;
   /// Each cavity's pressure now [MPa].
-  const std::vector<double>& cavity_pressures() const
+  std::vector<double> cavity_pressures() const
   {
     return _closed ? _closed->pressures() : _open_pressures;
   }

@@ -119,6 +119,12 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
   if (s.solid.element.mixed && s.solid.element.degree != 2)
     at("fem.formulation", "key 'fem.formulation': \"mixed\" (P2/P0) needs fem.degree = 2, got "
                               + std::to_string(s.solid.element.degree));
+  if (s.solid.cavity.humor_inertia && !s.solid.cavity.closed)
+    at("cavity.humor_inertia", "key 'cavity.humor_inertia': \"translation\" moves an "
+                               "incompressible humor, which needs cavity.model = \"closed\"");
+  if (s.solid.cavity.humor_inertia && !eye && s.mesh.boundary.cavity_wall.empty())
+    at("cavity.humor_inertia", "key 'cavity.humor_inertia': \"translation\" needs a cavity, "
+                               "but boundary.cavity_wall names no group");
   if (s.solid.support.springs && !eye && s.mesh.boundary.fixed.empty())
     at("support.model", "key 'support.model': \"springs\" act on boundary.fixed, which names "
                         "no group");

@@ -91,6 +91,8 @@ struct SupportSettings
 struct CavitySettings
 {
   bool closed;
+  bool humor_inertia;    ///< the humors' mass, translating (forms/humor_inertia.py)
+  double humor_density;  ///< [g/mm^3]
   scene::Points origin; ///< a file mesh's volume origin [mm]
   double iop;           ///< [mmHg]
   int inflate_steps;

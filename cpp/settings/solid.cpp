@@ -155,6 +155,16 @@ void visit(scene::Visitor& v, SolidSettings& s)
             "unknown (incompressible humor); constant_pressure = the pressure stays at the IOP "
             "(open system)"},
            s.cavity.closed, {{"closed", true}, {"constant_pressure", false}});
+  v.choice({"cavity.humor_inertia", "none", "", -inf, inf,
+            "the humors' mass in the dynamics: none = massless; translation = each closed "
+            "cavity's humor moves as its centroid does, the wall carrying its inertial force "
+            "as a pressure linear in position (forms/humor_inertia.py; its flow relative to the "
+            "centroid is left out)"},
+           s.cavity.humor_inertia, {{"none", false}, {"translation", true}});
+  v.real({"cavity.humor_density", "1.0e-3", "g/mm^3", 1e-6, 0.1,
+          "density of the humors: water's, of which the aqueous and the vitreous are 98-99 %",
+          "cavity.humor_inertia=translation"},
+         s.cavity.humor_density);
   // phase: zero-pressure geometry
   auto& zp = s.zero_pressure;
   const std::string zero_pressure = "zero_pressure.enabled=true";

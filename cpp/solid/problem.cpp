@@ -370,6 +370,19 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
   _bcs.insert(_bcs.end(), _symmetry_bcs.begin(), _symmetry_bcs.end());
   _symmetry_factor = (1 << axes.size())
                      * (_dimension == section::Dimension::axisymmetric ? 2 * M_PI : 1.0);
+
+  if (boundaries.humor_density && !boundaries.cavities.empty())
+  {
+    // The humors move along the axes no mirror plane holds (an
+    // axisymmetric section: along its axis only).
+    std::vector<int> components;
+    for (int k = 0; k < gdim; ++k)
+      if (_dimension == section::Dimension::axisymmetric ? k == 1 : !axes.count(k))
+        components.push_back(k);
+    _humor_inertia = std::make_unique<HumorInertia>(element, u, constants, *_load_tags,
+                                                    boundaries.cavities.size(), components,
+                                                    *boundaries.humor_density);
+  }
 }
 
 void Problem::set_cavity_pressures(const std::vector<double>& pressures)
@@ -394,6 +407,8 @@ void Problem::residual(la::Vector<double>& b)
   fem::assemble_vector<double>(b.mutable_array(), _dynamic ? *_R_dynamic : *_R);
   if (_dynamic && _viscoelasticity)
     _viscoelasticity->add_residual(b.mutable_array());
+  if (_dynamic && _humor_inertia)
+    _humor_inertia->add_residual(b.mutable_array());
   b.scatter_rev(std::plus<double>());
   if (_dynamic && _preload)
   {
@@ -424,9 +439,12 @@ std::vector<const fem::Form<double>*> Problem::jacobian_forms() const
 {
   if (!_dynamic)
     return {_J.get()};
+  std::vector<const fem::Form<double>*> forms = {_J_dynamic.get()};
   if (_viscoelasticity)
-    return {_J_dynamic.get(), &_viscoelasticity->jacobian_form()};
-  return {_J_dynamic.get()};
+    forms.push_back(&_viscoelasticity->jacobian_form());
+  if (_humor_inertia)
+    forms.push_back(&_humor_inertia->jacobian_form());
+  return forms;
 }
 
 double Problem::viscous_work() const
@@ -440,6 +458,12 @@ void Problem::cavity_load(std::size_t c, la::Vector<double>& b)
   fem::assemble_vector<double>(b.mutable_array(),
                                _dynamic ? *_cavity_loads_dynamic.at(c) : *_cavity_loads.at(c));
   b.scatter_rev(std::plus<double>());
+  fem::set_bc<double>(b.mutable_array(), _bcs, 0.0);
+}
+
+void Problem::humor_border(std::size_t j, la::Vector<double>& b)
+{
+  _humor_inertia->border(j, b);
   fem::set_bc<double>(b.mutable_array(), _bcs, 0.0);
 }
 
@@ -492,6 +516,13 @@ void Problem::start_dynamics(const TimeStep& step)
   _dynamic = true;
   if (_viscoelasticity)
     _viscoelasticity->start();
+  if (_humor_inertia)
+  {
+    auto volumes = cavity_volumes();
+    for (double& v : volumes)
+      v /= _symmetry_factor;
+    _humor_inertia->start(volumes);
+  }
 }
 
 void Problem::release_support()
@@ -514,6 +545,8 @@ void Problem::save(io::CheckpointWriter& checkpoint) const
   checkpoint.add("solid/a_old", *a_old);
   if (_viscoelasticity)
     _viscoelasticity->save(checkpoint);
+  if (_humor_inertia)
+    _humor_inertia->save(checkpoint);
   if (_support)
   {
     checkpoint.add("solid/u_support", *_u_support);
@@ -536,6 +569,8 @@ void Problem::restore(const io::CheckpointReader& checkpoint, const std::optiona
   checkpoint.read("solid/a_old", *a_old);
   if (_viscoelasticity)
     _viscoelasticity->restore(checkpoint);
+  if (_humor_inertia)
+    _humor_inertia->restore(checkpoint);
   if (_support)
   {
     checkpoint.read("solid/u_support", *_u_support);
@@ -555,6 +590,8 @@ void Problem::advance()
 {
   if (_viscoelasticity)
     _viscoelasticity->advance();
+  if (_humor_inertia)
+    _humor_inertia->advance();
   const double dt = _time["dt"]->value[0], beta = _time["beta"]->value[0],
                gamma = _time["gamma"]->value[0];
   auto un = u->x()->array();

@@ -20,6 +20,7 @@
 #include "io/checkpoint.h"
 #include "meshio/model.h"
 #include "section/section.h"
+#include "solid/humor_inertia.h"
 #include "solid/material.h"
 #include "solid/viscoelasticity.h"
 
@@ -50,6 +51,9 @@ struct Boundaries
   /// Springs and dashpots on the fixed groups from the start of the
   /// dynamics; none: clamped throughout.
   std::optional<Support> support;
+  /// The humors' density [g/mm^3] when their mass is modelled in the
+  /// dynamics (forms/humor_inertia.py); none: massless.
+  std::optional<double> humor_density;
 };
 
 /// A time step of the generalised-alpha scheme (forms/dynamics.py).
@@ -148,6 +152,16 @@ public:
   double viscous_work() const;
   /// Whether a part's matrix is viscoelastic (forms/viscoelasticity.py).
   bool viscoelastic() const { return _viscoelasticity != nullptr; }
+  /// The humors' inertia in force (forms/humor_inertia.py): in the
+  /// dynamics, if modelled; else null. Its forces are set like the cavity
+  /// pressures, before a residual or Jacobian.
+  HumorInertia* humor_inertia() { return _dynamic ? _humor_inertia.get() : nullptr; }
+  const HumorInertia* humor_inertia() const { return _dynamic ? _humor_inertia.get() : nullptr; }
+  /// b = dR/df_j of the humors' inertial force j, zero on Dirichlet dofs
+  /// (also dG_j/du: the border is symmetric).
+  void humor_border(std::size_t j, dolfinx::la::Vector<double>& b);
+  /// Whether the step is dynamic (after start_dynamics()).
+  bool dynamic() const { return _dynamic; }
   /// Per local scalar entry of u (owned and ghost): 1 on a Dirichlet dof
   /// (whose value is always zero).
   std::vector<std::int8_t> dirichlet_marker() const;
@@ -218,6 +232,8 @@ private:
       _strain_energy, _kinetic_energy;
   /// The matrix's viscoelasticity in the dynamics; null when elastic.
   std::unique_ptr<Viscoelasticity> _viscoelasticity;
+  /// The humors' inertia in the dynamics; null when massless.
+  std::unique_ptr<HumorInertia> _humor_inertia;
   bool _dynamic = false;
   /// dt, alpha_m, alpha_f, beta, gamma, damping
   std::map<std::string, std::shared_ptr<dolfinx::fem::Constant<double>>> _time;

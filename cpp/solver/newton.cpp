@@ -316,11 +316,12 @@ std::string Newton::newton_step(Work& w, bool assemble, const NewtonSettings& se
   KSPConvergedReason reason = linear_solve(w.b_petsc, w.dx_petsc, settings);
   if (ny > 0 && reason > 0)
   {
-    // The border: Z = K^-1 B, then the Schur complement S = C Z.
+    // The border: Z = K^-1 B, then the Schur complement S = C Z - D.
     const double t = MPI_Wtime();
     if (assemble || !_border_current)
     {
-      w.system.border(w.B, _C);
+      _D.assign(ny * ny, 0.0);
+      w.system.border(w.B, _C, _D);
       timings.border_assemble += MPI_Wtime() - t;
       for (std::size_t i = 0; i < ny && reason > 0; ++i)
         reason = linear_solve(w.B_petsc[i], w.Z_petsc[i], settings);
@@ -331,7 +332,7 @@ std::string Newton::newton_step(Work& w, bool assemble, const NewtonSettings& se
     {
       rhs[i] = dot(_C[i], w.dx) - w.g[i];
       for (std::size_t j = 0; j < ny; ++j)
-        S[i * ny + j] = dot(_C[i], _Z[j]);
+        S[i * ny + j] = dot(_C[i], _Z[j]) - _D[i * ny + j];
     }
     w.dy = solve_dense(S, rhs);
     for (std::size_t j = 0; j < ny; ++j)

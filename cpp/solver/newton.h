@@ -106,10 +106,10 @@ void set_petsc_options(const std::vector<std::pair<std::string, std::string>>& o
 /// Newton's linear system is the bordered matrix
 ///
 ///     [ K  B ] [dx]   [R]        K = dR/dx, B_i = dR/dy_i,
-///     [ C  0 ] [dy] = [G],       C_i = dG_i/dx (G does not depend on y),
+///     [ C  D ] [dy] = [G],       C_i = dG_i/dx, D = dG/dy (dense, small),
 ///
 /// solved by block elimination with K's factorisation: z = K^-1 R,
-/// Z_i = K^-1 B_i, S = C Z, dy = S^-1 (C z - G), dx = z - Z dy.
+/// Z_i = K^-1 B_i, S = C Z - D, dy = S^-1 (C z - G), dx = z - Z dy.
 /// If R and G are the derivatives of one Lagrangian, dx . R + dy . G is
 /// its directional derivative, which the line search drives to zero.
 struct System
@@ -120,9 +120,10 @@ struct System
   std::function<void(dolfinx::la::Vector<double>& b, std::vector<double>& g)> residual;
   /// A = K, with identity rows on Dirichlet dofs.
   std::function<void(Mat A)> jacobian;
-  /// B[i] = dR/dy_i (zero on Dirichlet dofs), C[i] = dG_i/dx; only with y.
+  /// B[i] = dR/dy_i (zero on Dirichlet dofs), C[i] = dG_i/dx and
+  /// D[i * ny + j] = dG_i/dy_j (given zero); only with y.
   std::function<void(std::vector<dolfinx::la::Vector<double>>& B,
-                     std::vector<dolfinx::la::Vector<double>>& C)>
+                     std::vector<dolfinx::la::Vector<double>>& C, std::vector<double>& D)>
       border;
   /// Why the current (x, y) is not admissible (e.g. an inverted element,
   /// and where), empty if it is; collective. Null: every state is. A step
@@ -179,8 +180,9 @@ private:
   bool _fresh = false;      ///< is it the current Jacobian's?
   bool _refactorise = false; ///< Jacobian::krylov: a solve was slow
   int _uses = 0;             ///< iterations on the factorisation in this solve
-  /// A bordered system's C_i and Z_i = K^-1 B_i, of the factorised K.
+  /// A bordered system's C_i and Z_i = K^-1 B_i, of the factorised K, and D.
   std::vector<dolfinx::la::Vector<double>> _C, _Z;
+  std::vector<double> _D;
   bool _border_current = false;
   std::optional<Anderson> _anderson;
 };
