@@ -83,6 +83,30 @@ TEST(Scene, ErrorsNameTheKeyAndWhatIsAccepted)
   EXPECT_NE(error_of("[solver.petsc]\nksp_type = [1]\n").find("ksp_type"), std::string::npos);
 }
 
+// An override that switches an effect off leaves the file's keys for it
+// unused: they are ignored with a note naming them and the option. A key
+// the file itself switched off, or one set on the command line against
+// the file's switch, stays an error.
+TEST(Scene, KeysAnOverrideTurnedOffAreIgnoredWithANote)
+{
+  auto file = std::filesystem::temp_directory_path() / "nct_test_switched.toml";
+  std::ofstream(file) << "[support]\nmodel = \"springs\"\nstiffness = 0.5\n";
+  Scene s = Scene::load(file, {"support.model=clamped"});
+  EXPECT_FALSE(s.has("support.stiffness"));
+  ASSERT_EQ(s.notes().size(), 1u);
+  EXPECT_NE(s.notes()[0].find("nct_test_switched.toml:3: key 'support.stiffness'"),
+            std::string::npos)
+      << s.notes()[0];
+  EXPECT_NE(s.notes()[0].find("--set support.model=clamped"), std::string::npos);
+  EXPECT_TRUE(Scene::load(file).notes().empty());
+  EXPECT_NE(error_of("[support]\nmodel = \"clamped\"\nstiffness = 0.5\n")
+                .find("applies only when support.model=springs"),
+            std::string::npos);
+  EXPECT_NE(error_of("[support]\nmodel = \"clamped\"\n", {"support.stiffness=0.5"})
+                .find("applies only when support.model=springs"),
+            std::string::npos);
+}
+
 TEST(Scene, DescribeDocumentsEveryKey)
 {
   const std::string text = nct::scene::describe(true);

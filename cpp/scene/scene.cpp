@@ -453,9 +453,34 @@ bool applies(const Key& key, const toml::table& user)
   return true;
 }
 
-/// Check the `when` condition of every user key.
+/// The --set option that turned a file's key off: the option that set a
+/// switch of the key's `when` to a value the key does not apply at; empty
+/// if none did (or the key itself is an option's).
+std::string switched_off_by(const Key& key, const toml::node& value, const toml::table& user)
+{
+  if (place(value, "").second < 0)
+    return "";
+  std::istringstream conditions(key.when);
+  for (std::string condition; std::getline(conditions, condition, ',');)
+  {
+    const std::string name = condition.substr(0, condition.find('='));
+    const toml::node* n = user.at_path(name).node();
+    if (!n || place(*n, "").second >= 0)
+      continue;
+    Key single = key;
+    single.when = condition;
+    if (!applies(single, user))
+      return place(*n, "").first;
+  }
+  return "";
+}
+
+/// Check the `when` condition of every user key. A file's key that a
+/// --set option turned off (a study's variant without the springs, say,
+/// on a scene that gives their stiffness) is dropped, with a note.
 void check_conditions(const toml::table& t, const std::string& prefix,
-                      const toml::table& user, const std::string& file, Errors& errors)
+                      const toml::table& user, const std::string& file, Errors& errors,
+                      std::vector<std::string>& dropped, std::vector<std::string>& notes)
 {
   for (auto&& [k, v] : t)
   {
@@ -463,13 +488,20 @@ void check_conditions(const toml::table& t, const std::string& prefix,
                                       : prefix + "." + std::string(k.str());
     const Key* key = find_key(name);
     if (v.is_table() && !(key && key->kind == Kind::options))
-      check_conditions(*v.as_table(), name, user, file, errors);
+      check_conditions(*v.as_table(), name, user, file, errors, dropped, notes);
     else if (key && !applies(*key, user))
     {
-      add_at(errors, v, file,
-             "key '" + name + "'" + (key->name == name ? "" : " (as '" + key->name + "')")
-                 + " applies only when " + key->when
-                 + "; remove it or change the scene to that");
+      const std::string what = "key '" + name + "'"
+                               + (key->name == name ? "" : " (as '" + key->name + "')")
+                               + " applies only when " + key->when;
+      if (const std::string option = switched_off_by(*key, v, user); !option.empty())
+      {
+        notes.push_back(place(v, file).first + ": " + what + ", which " + option
+                        + " turned off: ignored");
+        dropped.push_back(name);
+        continue;
+      }
+      add_at(errors, v, file, what + "; remove it or change the scene to that");
       errors.refuse(name);
     }
   }
@@ -584,8 +616,11 @@ Scene Scene::load(const std::filesystem::path& file, const std::vector<std::stri
   // Every problem of the user's keys; the refused ones are dropped (their
   // defaults stand in), so that the checks that follow see a valid scene.
   check_table(user, "", fname, errors);
-  check_conditions(user, "", user, fname, errors);
+  std::vector<std::string> dropped, notes;
+  check_conditions(user, "", user, fname, errors, dropped, notes);
   for (const std::string& name : errors.refused_keys())
+    erase_at(user, name);
+  for (const std::string& name : dropped)
     erase_at(user, name);
 
   // Resolved scene: declared defaults under the user's values. Wildcard
@@ -643,7 +678,8 @@ Scene Scene::load(const std::filesystem::path& file, const std::vector<std::stri
   };
   overlay(user, "");
 
-  return Scene(std::filesystem::absolute(file), std::move(user), std::move(resolved));
+  return Scene(std::filesystem::absolute(file), std::move(user), std::move(resolved),
+               std::move(notes));
 }
 
 const toml::node& Scene::node(const std::string& key) const

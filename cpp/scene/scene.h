@@ -139,14 +139,20 @@ public:
   /// A path key resolved against the scene file's folder.
   std::filesystem::path path(const std::string& key) const;
 
+  /// What the reader did that the user should know: the file's keys that
+  /// a --set option turned off, ignored ("file:line: key '...' ...").
+  const std::vector<std::string>& notes() const { return _notes; }
+
   /// The resolved scene (every key with its value) as TOML.
   std::string to_toml() const;
   /// The resolved keys but `without` these ("section.key"), as TOML.
   std::string to_toml(const std::vector<std::string>& without) const;
 
 private:
-  Scene(std::filesystem::path file, toml::table user, toml::table resolved)
-      : _file(std::move(file)), _user(std::move(user)), _resolved(std::move(resolved))
+  Scene(std::filesystem::path file, toml::table user, toml::table resolved,
+        std::vector<std::string> notes)
+      : _file(std::move(file)), _user(std::move(user)), _resolved(std::move(resolved)),
+        _notes(std::move(notes))
   {
   }
   const toml::node& node(const std::string& key) const;
@@ -154,6 +160,7 @@ private:
   std::filesystem::path _file;
   toml::table _user; ///< the file's values and the --set ones, where they were given
   toml::table _resolved;
+  std::vector<std::string> _notes;
 };
 
 } // namespace nct::scene

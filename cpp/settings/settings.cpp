@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <set>
+
+#include <dolfinx/common/MPI.h>
 
 #include "air/inlet.h"
 
@@ -552,6 +555,9 @@ Input read(MPI_Comm comm, const std::filesystem::path& file,
   build_puff(scene, s, errors);
   check_meshes(comm, scene, s, errors);
   errors.raise();
+  if (dolfinx::MPI::rank(comm) == 0)
+    for (const std::string& note : scene.notes())
+      std::cerr << "note: " << note << "\n";
   return {std::move(scene), std::move(s)};
 }
 
