@@ -19,6 +19,10 @@ packages=(
   libboost-dev libceres-dev
   # scripts and test checks (read XDMF/HDF5, plots)
   python3-numpy python3-h5py python3-matplotlib
+  # Slurm and munge: studies and fits as job arrays on a cluster, and the
+  # tests' single-node cluster (scripts/slurm-cluster.sh); no daemon is
+  # started by the install
+  slurmctld slurmd slurm-client munge
   # the study test's independent ANOVA (least squares, F tests); the
   # checkpoint test's matching of points across partitions (k-d tree) and
   # its XPath look-ups in the XDMF files

@@ -82,6 +82,9 @@ int main(int argc, char* argv[])
   study->add_option("--jobs", jobs, "cases at once (default: the study's)")
       ->check(CLI::Range(1, 4096));
   study->add_flag("--dry-run", dry_run, "check every case and list them; run none");
+  std::string launcher;
+  study->add_option("--launcher", launcher, "where the cases run (default: the study's)")
+      ->check(CLI::IsMember({"local", "slurm"}));
 
   std::string fit_file;
   auto* fit = app.add_subcommand("fit", "fit scene keys (stiffness, IOP...) to a patient's "
@@ -91,6 +94,8 @@ int main(int argc, char* argv[])
   fit->add_option("--jobs", jobs, "forward runs at once (default: the fit's)")
       ->check(CLI::Range(1, 4096));
   fit->add_flag("--dry-run", dry_run, "check the fit file and the start's scene; run nothing");
+  fit->add_option("--launcher", launcher, "where the forward runs go (default: the fit's)")
+      ->check(CLI::IsMember({"local", "slurm"}));
 
   auto* describe = app.add_subcommand("describe", "print every scene key with its documentation");
   describe->add_flag("--markdown", markdown, "as a Markdown table");
@@ -138,6 +143,7 @@ int main(int argc, char* argv[])
         options.program = program;
         options.jobs = jobs;
         options.dry_run = dry_run;
+        options.launcher = launcher;
         return nct::fit::run(f, options);
       }
       auto s = nct::study::Study::load(study_file);
@@ -148,6 +154,7 @@ int main(int argc, char* argv[])
       options.program = program;
       options.jobs = jobs;
       options.dry_run = dry_run;
+      options.launcher = launcher;
       return nct::study::run(s, options);
     }
     catch (const nct::scene::Error& e)

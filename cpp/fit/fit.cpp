@@ -17,6 +17,7 @@
 #include "io/output.h"
 #include "io/toml_input.h"
 #include "jobs/jobs.h"
+#include "jobs/launcher_input.h"
 #include "scene/scene.h"
 
 namespace nct::fit
@@ -214,7 +215,8 @@ std::vector<double> model_values(const Fit& fit, const fs::path& run)
 class Forward
 {
 public:
-  Forward(const Fit& fit, const Options& options) : _fit(fit), _options(options)
+  Forward(const Fit& fit, const Options& options, jobs::Launcher launcher)
+      : _fit(fit), _options(options), _launcher(std::move(launcher))
   {
     const fs::path dir = options.out / "runs";
     fs::create_directories(dir);
@@ -265,12 +267,11 @@ public:
                                              + "\n");
       todo_sets.push_back(s);
       todo_dirs.push_back(dir);
-      todo.push_back({jobs::nct_command(_options.program, "run", _fit.scene, s, dir,
-                                        _fit.ranks, _fit.mpiexec),
-                      dir / "console.log"});
+      todo.push_back({jobs::nct_command(_options.program, "run", _fit.scene, s, dir),
+                      dir / "console.log", _fit.ranks, _fit.mpiexec, nullptr});
     }
     const int at_once = _options.jobs > 0 ? _options.jobs : _fit.jobs;
-    const bool complete = jobs::run(todo, at_once, [](std::size_t, int) {});
+    const bool complete = jobs::run(_launcher, todo, at_once, [](std::size_t, int) {});
     if (!complete)
       throw Interrupted();
     for (std::size_t i = 0; i < todo.size(); ++i)
@@ -308,6 +309,7 @@ public:
 private:
   const Fit& _fit;
   const Options& _options;
+  jobs::Launcher _launcher;
   std::map<std::vector<std::string>, fs::path> _cache;
   int _next = 1, _done = 0, _reusable = 0;
 };
@@ -671,7 +673,9 @@ int run(const Fit& fit, const Options& o)
     throw scene::Error(fit.file.string() + ": " + o.out.string() + " holds another fit (its "
                        "fit.toml differs); give a new --out or remove it");
   jobs::catch_interrupts();
-  Forward forward(fit, o);
+  // Slurm must take the options before anything runs or is submitted.
+  Forward forward(fit, o, jobs::launcher_for(fit.launcher, o.launcher, o.out, fit.ranks, "fit",
+                                             fit.file));
   std::vector<double> theta(n);
   for (std::size_t i = 0; i < n; ++i)
     theta[i] = variable(fit.parameters[i], fit.parameters[i].start);
@@ -681,9 +685,8 @@ int run(const Fit& fit, const Options& o)
   {
     const fs::path log = o.out / "check.log";
     int code = 0;
-    jobs::run({{jobs::nct_command(o.program, "check", fit.scene, forward.sets(theta), {}, 1,
-                                  fit.mpiexec),
-                log}},
+    jobs::run({{jobs::nct_command(o.program, "check", fit.scene, forward.sets(theta), {}), log, 1,
+                fit.mpiexec, nullptr}},
               1, [&](std::size_t, int c) { code = c; });
     if (jobs::interrupted())
       return 130;

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "jobs/jobs.h"
+
 namespace nct::fit
 {
 
@@ -53,6 +55,7 @@ struct Fit
   std::vector<Observation> observations;
   int ranks = 1, jobs = 1;
   std::string mpiexec;
+  jobs::Launcher launcher; ///< where the forward runs go: this machine or Slurm
   int max_iterations = 20;
   double step = 0.01;            ///< finite-difference step in the fitted variable (relative)
   bool central = false;          ///< central differences (2 runs per parameter)
@@ -74,6 +77,8 @@ struct Options
   std::filesystem::path program; ///< the nct executable that runs the forward runs
   int jobs = 0;                  ///< overrides the fit's when > 0
   bool dry_run = false;          ///< check the fit and the start's scene; run nothing
+  /// Overrides the fit's launcher kind ("local", "slurm"; empty: the fit's).
+  std::string launcher;
 };
 
 /// Run (or resume) a fit into out: fit.json, iterations.csv,

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "fit/fit.h"
+#include "jobs/launcher_input.h"
 #include "io/csv.h"
 #include "io/format.h"
 #include "io/toml_input.h"
@@ -348,8 +349,8 @@ Fit Fit::load(const fs::path& file)
     errors.add(key_error(file, "fit", "missing: a [fit] table names the base scene").what());
     errors.raise();
   }
-  io::only(*ft, {"scene", "set", "ranks", "jobs", "mpiexec", "max_iterations", "step",
-                 "differences", "tolerance"},
+  io::only(*ft, {"scene", "set", "ranks", "jobs", "mpiexec", "launcher", "slurm", "max_iterations",
+                 "step", "differences", "tolerance"},
            file, "fit.", "[fit]", errors);
   Fit fit;
   fit.file = file;
@@ -382,6 +383,7 @@ Fit Fit::load(const fs::path& file)
       throw key_error(file, "fit.mpiexec",
                       "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
   });
+  fit.launcher = jobs::read_launcher(*ft, "fit", file, errors);
   errors.attempt([&] { fit.max_iterations = integer("max_iterations", 20, 1, 1000); });
   errors.attempt([&] { fit.step = real("step", 0.01, 0, 0.5); });
   errors.attempt([&] { fit.tolerance = real("tolerance", 1e-4, 0, 1); });

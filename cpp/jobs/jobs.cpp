@@ -1,5 +1,7 @@
 #include "jobs/jobs.h"
 
+#include "jobs/slurm.h"
+
 #include <cerrno>
 #include <csignal>
 #include <cstring>
@@ -86,6 +88,29 @@ void catch_interrupts()
 
 bool interrupted() { return stop != 0; }
 
+std::string name(Launcher::Kind kind) { return kind == Launcher::Kind::slurm ? "slurm" : "local"; }
+
+std::vector<std::string> local_command(const Job& job)
+{
+  std::vector<std::string> argv;
+  if (job.ranks > 1)
+  {
+    argv = split_words(job.mpiexec);
+    argv.push_back("-n");
+    argv.push_back(std::to_string(job.ranks));
+  }
+  argv.insert(argv.end(), job.argv.begin(), job.argv.end());
+  return argv;
+}
+
+bool run(const Launcher& launcher, const std::vector<Job>& jobs, int at_once,
+         const std::function<void(std::size_t, int)>& done)
+{
+  if (launcher.kind == Launcher::Kind::slurm)
+    return slurm::run(launcher, jobs, at_once, done);
+  return run(jobs, at_once, done);
+}
+
 bool run(const std::vector<Job>& jobs, int at_once,
          const std::function<void(std::size_t, int)>& done)
 {
@@ -95,7 +120,9 @@ bool run(const std::vector<Job>& jobs, int at_once,
   {
     while (!stop && next < jobs.size() && int(running.size()) < at_once)
     {
-      running[spawn(jobs[next].argv, jobs[next].log)] = next;
+      if (jobs[next].prepare)
+        jobs[next].prepare();
+      running[spawn(local_command(jobs[next]), jobs[next].log)] = next;
       ++next;
     }
     if (stop)
@@ -131,15 +158,9 @@ bool run(const std::vector<Job>& jobs, int at_once,
 
 std::vector<std::string> nct_command(const fs::path& program, const std::string& verb,
                                      const fs::path& scene, const std::vector<std::string>& sets,
-                                     const fs::path& out, int ranks, const std::string& mpiexec)
+                                     const fs::path& out)
 {
   std::vector<std::string> argv;
-  if (ranks > 1 && verb == "run")
-  {
-    argv = split_words(mpiexec);
-    argv.push_back("-n");
-    argv.push_back(std::to_string(ranks));
-  }
   argv.push_back(program.string());
   argv.push_back(verb);
   argv.push_back(fs::absolute(scene).string());

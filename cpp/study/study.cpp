@@ -24,6 +24,7 @@
 #include <toml++/toml.h>
 
 #include "io/format.h"
+#include "jobs/launcher_input.h"
 #include "io/output.h"
 #include "io/toml_input.h"
 #include "jobs/jobs.h"
@@ -284,8 +285,8 @@ Study Study::load(const fs::path& file)
                    .what());
     errors.raise();
   }
-  only(*st, {"scene", "design", "responses", "set", "ranks", "jobs", "mpiexec"}, file, "study.",
-       errors);
+  only(*st, {"scene", "design", "responses", "set", "ranks", "jobs", "mpiexec", "launcher", "slurm"},
+       file, "study.", errors);
 
   Study s;
   s.file = file;
@@ -342,6 +343,7 @@ Study Study::load(const fs::path& file)
       throw key_error(file, "study.mpiexec",
                       "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
   });
+  s.launcher = jobs::read_launcher(*st, "study", file, errors);
 
   // The design's cases: factors and their levels, or named variants.
   const bool ablation = s.design == "ablation";
@@ -413,11 +415,13 @@ Study Study::load(const fs::path& file)
 namespace
 {
 
-/// The command of one case: nct <verb> scene --set ... [--out dir].
-std::vector<std::string> command(const Study& s, const Options& o, const Case& c,
-                                 const std::string& verb, const fs::path& out)
+/// The job of one case: nct <verb> scene --set ... [--out dir], its
+/// console into `log`; `run` on the study's ranks, `check` serially.
+jobs::Job command(const Study& s, const Options& o, const Case& c, const std::string& verb,
+                  const fs::path& out, const fs::path& log)
 {
-  return jobs::nct_command(o.program, verb, c.scene, c.sets, out, s.ranks, s.mpiexec);
+  return {jobs::nct_command(o.program, verb, c.scene, c.sets, out), log,
+          verb == "run" ? s.ranks : 1, s.mpiexec, nullptr};
 }
 
 // ---------------------------------------------------------------------------
@@ -780,6 +784,9 @@ int run(const Study& s, const Options& o)
 {
   const std::size_t n = s.cases.size();
   const int at_once = o.jobs > 0 ? o.jobs : s.jobs;
+  // Slurm must take the options before anything runs or is submitted.
+  const jobs::Launcher launcher
+      = jobs::launcher_for(s.launcher, o.launcher, o.out, s.ranks, "study", s.file);
   std::error_code ec;
   fs::create_directories(o.out / "cases", ec);
   if (ec)
@@ -815,7 +822,9 @@ int run(const Study& s, const Options& o)
             << (s.variants.empty() ? format("%zu factor(s)", s.factors.size())
                                    : format("%zu variants", s.variants.size()))
             << ", " << n << " cases (" << n - todo.size() << " already done), "
-            << at_once << " at once on " << s.ranks << " rank(s) each -> " << o.out.string()
+            << at_once << " at once on " << s.ranks << " rank(s) each"
+            << (launcher.kind == jobs::Launcher::Kind::slurm ? " through Slurm" : "") << " -> "
+            << o.out.string()
             << std::endl;
 
   jobs::catch_interrupts();
@@ -824,8 +833,8 @@ int run(const Study& s, const Options& o)
   // before running any.
   std::vector<jobs::Job> checks;
   for (std::size_t c : todo)
-    checks.push_back({command(s, o, s.cases[c], "check", {}),
-                      o.out / "cases" / (case_name(c, n) + ".check.log")});
+    checks.push_back(command(s, o, s.cases[c], "check", {},
+                             o.out / "cases" / (case_name(c, n) + ".check.log")));
   std::string bad;
   const bool checked = jobs::run(checks, std::max(at_once * s.ranks, 1),
                                 [&](std::size_t i, int code)
@@ -871,20 +880,24 @@ int run(const Study& s, const Options& o)
   for (std::size_t c : todo)
   {
     const fs::path dir = o.out / "cases" / case_name(c, n);
-    fs::remove_all(dir); // an interrupted case starts afresh
-    fs::create_directories(dir);
-    io::write_atomic(dir / "case.json",
-                     nlohmann::json{{"case", case_name(c, n)},
-                                    {"scene", fs::absolute(s.cases[c].scene).string()},
-                                    {"sets", s.cases[c].sets}}.dump(2)
-                         + "\n");
-    runs.push_back({command(s, o, s.cases[c], "run", dir), dir / "console.log"});
+    runs.push_back(command(s, o, s.cases[c], "run", dir, dir / "console.log"));
+    // An interrupted case starts afresh (one still running on a cluster is followed).
+    runs.back().prepare = [&s, dir, c, n]
+    {
+      fs::remove_all(dir);
+      fs::create_directories(dir);
+      io::write_atomic(dir / "case.json",
+                       nlohmann::json{{"case", case_name(c, n)},
+                                      {"scene", fs::absolute(s.cases[c].scene).string()},
+                                      {"sets", s.cases[c].sets}}.dump(2)
+                           + "\n");
+    };
   }
   const auto start = std::chrono::steady_clock::now();
   std::size_t finished = n - todo.size();
   io::write_atomic(o.out / "cases.csv", cases_csv(s, results));
   const bool complete = jobs::run(
-      runs, at_once,
+      launcher, runs, at_once,
       [&](std::size_t i, int code)
       {
         const std::size_t c = todo[i];

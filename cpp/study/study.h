@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "jobs/jobs.h"
+
 namespace nct::study
 {
 
@@ -51,6 +53,7 @@ struct Study
   int ranks; ///< MPI ranks per case
   int jobs;  ///< cases at once
   std::string mpiexec; ///< launcher of cases with ranks > 1 ("-n ranks" is appended)
+  jobs::Launcher launcher; ///< where the cases run: this machine or Slurm
   std::vector<Case> cases; ///< factorial: Yates order (the first factor changes fastest);
                            ///< ofat: the base scene, then each factor's levels in turn;
                            ///< ablation: one per variant, in order
@@ -72,6 +75,8 @@ struct Options
   std::filesystem::path program; ///< the nct executable that runs the cases
   int jobs = 0;                  ///< overrides the study's when > 0
   bool dry_run = false;          ///< check every case and list them, run none
+  /// Overrides the study's launcher kind ("local", "slurm"; empty: the study's).
+  std::string launcher;
 };
 
 /// Run (or resume) every case of a study in out/cases/case-NNN, then
