@@ -12,7 +12,9 @@ slurm_check.py NCT MODE OUT [REFERENCE]
   as when a login session ends) leaves its tasks running; started again,
   it follows them instead of submitting them twice.
 - fit: the fit_recovery fit with launcher = "slurm" gives the local
-  fit's values (REFERENCE, fit_recovery's folder) to 1e-12.
+  fit's values (REFERENCE, fit_recovery's folder) to 1e-12, straight
+  through, interrupted (SIGINT: it cancels what it submitted) and
+  resumed, and with its driver killed (it follows its queued runs).
 - run: one scene on 2 ranks under sbatch and srun --mpi=pmix equals the
   same scene under mpirun -n 2 (the README's multi-node recipe).
 - bad: a Slurm launcher Slurm refuses (unknown partition, a bad time
@@ -164,18 +166,55 @@ if mode == "study":
     same_summaries(three)
 elif mode == "fit":
     shutil.copytree(os.path.join(reference, "data"), os.path.join(out, "data"))
-    text = open(os.path.join(reference, "fit.toml")).read()
-    text = text.replace("jobs = 2", 'jobs = 2\nlauncher = "slurm"')
+    fit_text = open(os.path.join(reference, "fit.toml")).read()
+    fit_text = fit_text.replace("jobs = 2", 'jobs = 2\nlauncher = "slurm"')
     path = os.path.join(out, "fit.toml")
-    open(path, "w").write(text)
+    open(path, "w").write(fit_text)
+    ref = {p["label"]: p for p in json.load(open(os.path.join(reference, "fit", "fit.json")))["parameters"]}
+
+    def same_fit(folder):
+        got = {p["label"]: p for p in json.load(open(os.path.join(folder, "fit.json")))["parameters"]}
+        for label, p in got.items():
+            d = abs(p["value"] - ref[label]["value"])
+            print("%s: Slurm %.12g, local %.12g" % (label, p["value"], ref[label]["value"]))
+            assert d <= 1e-12 * abs(ref[label]["value"]), label
+
+    # Straight through.
     r = run([nct, "fit", path, "--out", os.path.join(out, "fit")], check=0)
     assert "slurm: submitted" in r.stdout
-    ref = {p["label"]: p for p in json.load(open(os.path.join(reference, "fit", "fit.json")))["parameters"]}
-    got = {p["label"]: p for p in json.load(open(os.path.join(out, "fit", "fit.json")))["parameters"]}
-    for label, p in got.items():
-        d = abs(p["value"] - ref[label]["value"])
-        print("%s: Slurm %.12g, local %.12g" % (label, p["value"], ref[label]["value"]))
-        assert d <= 1e-12 * abs(ref[label]["value"]), label
+    same_fit(os.path.join(out, "fit"))
+    # Interrupted after its fourth forward run: it cancels what it
+    # submitted; the same command resumes without redoing a finished run.
+    folder = os.path.join(out, "interrupted")
+    p = subprocess.Popen([nct, "fit", path, "--out", folder], stdout=subprocess.PIPE,
+                         stderr=subprocess.STDOUT, text=True)
+    wait_for(lambda: os.path.exists(os.path.join(folder, "runs", "run-0004", "summary.json")),
+             "the fourth forward run")
+    p.send_signal(signal.SIGINT)
+    text, _ = p.communicate(timeout=120)
+    print(text)
+    assert p.returncode == 130, f"interrupted: exit {p.returncode}, expected 130"
+    assert "slurm: interrupted: cancelled" in text
+    for a in {t.split("_")[0] for t in submitted(folder).values()}:
+        assert not any(alive(s) for s in squeue(a).values()), f"array {a} still runs"
+    r = run([nct, "fit", path, "--out", folder], check=0)
+    same_fit(folder)
+    # The driver killed (its session ended) with forward runs queued:
+    # started again, it follows them instead of running them twice.
+    one_at_a_time = os.path.join(out, "fit-one.toml")
+    open(one_at_a_time, "w").write(fit_text.replace("jobs = 2", "jobs = 1"))
+    folder = os.path.join(out, "killed")
+    p = subprocess.Popen([nct, "fit", one_at_a_time, "--out", folder], stdout=subprocess.PIPE,
+                         stderr=subprocess.STDOUT, text=True)
+    record = os.path.join(folder, "slurm", "submitted.json")
+    wait_for(lambda: os.path.exists(record) and any(
+        alive(s) for t in submitted(folder).values() for s in squeue(t.split("_")[0]).values()),
+        "a queued forward run")
+    p.kill()
+    p.communicate()
+    r = run([nct, "fit", one_at_a_time, "--out", folder], check=0)
+    assert "followed, not submitted again" in r.stdout, r.stdout
+    same_fit(folder)
 elif mode == "run":
     scene = os.path.join(root, "tests", "scenes", "sphere_inflation.toml")
     local = os.path.join(out, "mpirun")

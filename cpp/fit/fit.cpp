@@ -18,6 +18,7 @@
 #include "io/toml_input.h"
 #include "jobs/jobs.h"
 #include "jobs/launcher_input.h"
+#include "jobs/slurm.h"
 #include "scene/scene.h"
 
 namespace nct::fit
@@ -220,16 +221,20 @@ public:
   {
     const fs::path dir = options.out / "runs";
     fs::create_directories(dir);
+    // A run a driver killed before it left on a cluster's queue is followed.
+    const auto queued = jobs::slurm::in_flight(_launcher);
     for (auto& entry : fs::directory_iterator(dir))
     {
       const fs::path run = entry.path();
-      if (!fs::exists(run / "run.json") || !fs::exists(run / "summary.json"))
+      const bool pending = fs::exists(run / "run.json")
+                           && queued.count(fs::absolute(run / "console.log").lexically_normal().string());
+      if (!fs::exists(run / "run.json") || (!fs::exists(run / "summary.json") && !pending))
       {
         fs::remove_all(run); // interrupted: runs again when needed
         continue;
       }
       auto recorded = nlohmann::json::parse(jobs::read_text(run / "run.json"));
-      _cache[recorded.at("sets").get<std::vector<std::string>>()] = run;
+      (pending ? _pending : _cache)[recorded.at("sets").get<std::vector<std::string>>()] = run;
       _next = std::max(_next, std::stoi(run.filename().string().substr(4)) + 1);
     }
     _reusable = int(_cache.size());
@@ -259,16 +264,25 @@ public:
       wanted.push_back(s);
       if (_cache.count(s) || std::count(todo_sets.begin(), todo_sets.end(), s))
         continue;
-      const fs::path dir = _options.out / "runs" / format("run-%04d", _next++);
-      fs::remove_all(dir);
-      fs::create_directories(dir);
-      io::write_atomic(dir / "run.json", nlohmann::json{{"scene", fs::absolute(_fit.scene)},
-                                                        {"sets", s}}.dump(2)
-                                             + "\n");
+      auto pending = _pending.find(s);
+      const fs::path dir = pending != _pending.end()
+                               ? pending->second
+                               : _options.out / "runs" / format("run-%04d", _next++);
+      if (pending != _pending.end())
+        _pending.erase(pending);
       todo_sets.push_back(s);
       todo_dirs.push_back(dir);
       todo.push_back({jobs::nct_command(_options.program, "run", _fit.scene, s, dir),
-                      dir / "console.log", _fit.ranks, _fit.mpiexec, nullptr});
+                      fs::absolute(dir / "console.log"), _fit.ranks, _fit.mpiexec,
+                      [dir, s, scene = _fit.scene]
+                      {
+                        fs::remove_all(dir);
+                        fs::create_directories(dir);
+                        io::write_atomic(dir / "run.json",
+                                         nlohmann::json{{"scene", fs::absolute(scene)},
+                                                        {"sets", s}}.dump(2)
+                                             + "\n");
+                      }});
     }
     const int at_once = _options.jobs > 0 ? _options.jobs : _fit.jobs;
     const bool complete = jobs::run(_launcher, todo, at_once, [](std::size_t, int) {});
@@ -311,6 +325,8 @@ private:
   const Options& _options;
   jobs::Launcher _launcher;
   std::map<std::vector<std::string>, fs::path> _cache;
+  /// Runs still on a cluster's queue from a driver that was killed.
+  std::map<std::vector<std::string>, fs::path> _pending;
   int _next = 1, _done = 0, _reusable = 0;
 };
 

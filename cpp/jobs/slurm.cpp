@@ -175,6 +175,9 @@ std::string submit(const Launcher& l, const std::vector<Job>& jobs,
   return out.substr(0, out.find(';'));
 }
 
+/// A job's key in the record: its log's absolute path.
+std::string key(const Job& job) { return fs::absolute(job.log).lexically_normal().string(); }
+
 /// The exit code a task left next to its log, or -1.
 int exit_code(const Job& job)
 {
@@ -223,9 +226,27 @@ void check(const Launcher& l, int ranks, const std::string& prefix)
                   + quote(options) + ": " + out);
 }
 
+std::set<std::string> in_flight(const Launcher& l)
+{
+  std::set<std::string> logs;
+  if (l.kind != Launcher::Kind::slurm)
+    return logs;
+  Record record(l.folder);
+  std::set<std::string> arrays;
+  for (const auto& [log, task] : record.tasks)
+    arrays.insert(array_of(task));
+  const auto now = states(arrays);
+  for (const auto& [log, task] : record.tasks)
+    if (auto it = now.find(task); it != now.end() && alive(it->second))
+      logs.insert(log);
+  return logs;
+}
+
 bool run(const Launcher& l, const std::vector<Job>& jobs, int at_once,
          const std::function<void(std::size_t, int)>& done)
 {
+  if (interrupted())
+    return false; // as the local launcher: nothing new starts after a signal
   Record record(l.folder);
   // Jobs the record shows still queued or running are followed; the rest
   // are submitted, one array per number of ranks.
@@ -237,7 +258,7 @@ bool run(const Launcher& l, const std::vector<Job>& jobs, int at_once,
   std::map<int, std::vector<std::size_t>> to_submit;
   for (std::size_t i = 0; i < jobs.size(); ++i)
   {
-    auto it = record.tasks.find(jobs[i].log.string());
+    auto it = record.tasks.find(key(jobs[i]));
     if (it != record.tasks.end() && now.count(it->second) && alive(now[it->second]))
     {
       tracked[i] = it->second;
@@ -267,7 +288,7 @@ bool run(const Launcher& l, const std::vector<Job>& jobs, int at_once,
     for (std::size_t k = 0; k < indices.size(); ++k)
     {
       tracked[indices[k]] = id + "_" + std::to_string(k);
-      record.tasks[jobs[indices[k]].log.string()] = tracked[indices[k]];
+      record.tasks[key(jobs[indices[k]])] = tracked[indices[k]];
     }
     record.save();
   }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,11 @@ namespace nct::jobs::slurm
 /// and options for a job of `ranks` ranks. Throws std::runtime_error
 /// naming the key under `prefix` ("study.slurm.") that Slurm refused.
 void check(const Launcher& launcher, int ranks, const std::string& prefix);
+
+/// The logs (absolute paths) of the jobs the launcher's folder records as
+/// submitted whose tasks are still queued or running; none for a local
+/// launcher.
+std::set<std::string> in_flight(const Launcher& launcher);
 
 /// Run `jobs` as Slurm job arrays (see jobs::run): each task runs its job
 /// (`srun --mpi=pmix -n ranks` for ranks > 1) with its output in its log and
