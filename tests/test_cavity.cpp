@@ -214,6 +214,24 @@ void expect_second_order(const std::vector<std::vector<double>>& errors)
   EXPECT_GT(errors[0][0], 1e-9); // the displacement rows' truncation error shows
 }
 
+/// The coarse eye of scenes/cavity-press.toml (one layer, fibres off:
+/// their tension-only switch makes R only once differentiable), with
+/// `more` overrides, pressed by a Gaussian 100 mmHg patch.
+nct::Model pressed_eye(const std::vector<std::string>& more)
+{
+  std::vector<std::string> sets = {"zero_pressure.enabled=false", "mesh.layers=1",
+                                   "material.cornea.k1=0.0", "material.limbus.k1=0.0"};
+  sets.insert(sets.end(), more.begin(), more.end());
+  auto s = nct::read(MPI_COMM_WORLD,
+                     std::filesystem::path(NCT_SOURCE_DIR) / "scenes/cavity-press.toml", sets);
+  nct::Model model = nct::make_model(MPI_COMM_WORLD, s);
+  auto& problem = model.solid->problem;
+  problem.set_press_profile([](const std::array<double, 3>& x)
+                              { return std::exp(-(x[0] * x[0] + x[2] * x[2]) / 4.5); });
+  problem.set_press(100 * mmHg);
+  return model;
+}
+
 /// A smooth, large state u and a smooth direction w on the quarter eye
 /// (through the dof coordinates, so that every rank sees the same
 /// fields), w normal to the symmetry planes, where the Jacobian's
@@ -246,15 +264,8 @@ dolfinx::la::Vector<double> smooth_state(nct::solid::Problem& problem, bool clam
 // differences across it converge at first order whatever the Jacobian.
 TEST(Cavity, BorderedJacobianMatchesFiniteDifferences)
 {
-  auto s = nct::read(MPI_COMM_WORLD, 
-      std::filesystem::path(NCT_SOURCE_DIR) / "scenes/cavity-press.toml",
-      {"zero_pressure.enabled=false", "mesh.layers=1", "material.cornea.k1=0.0",
-       "material.limbus.k1=0.0"});
-  nct::Model model = nct::make_model(MPI_COMM_WORLD, s);
+  nct::Model model = pressed_eye({});
   auto& problem = model.solid->problem;
-  problem.set_press_profile([](const std::array<double, 3>& x)
-                              { return std::exp(-(x[0] * x[0] + x[2] * x[2]) / 4.5); });
-  problem.set_press(100 * mmHg);
   nct::cavity::Closed closed(problem, {20 * mmHg});
   const auto w = smooth_state(problem, true);
   auto system = closed.system();
@@ -269,16 +280,9 @@ TEST(Cavity, BorderedJacobianMatchesFiniteDifferences)
 // moments) are checked with the rest. The cut moves (w is not zero there).
 TEST(Cavity, HumorInertiaJacobianMatchesFiniteDifferences)
 {
-  auto s = nct::read(MPI_COMM_WORLD,
-      std::filesystem::path(NCT_SOURCE_DIR) / "scenes/cavity-press.toml",
-      {"zero_pressure.enabled=false", "mesh.layers=1", "material.cornea.k1=0.0",
-       "material.limbus.k1=0.0", "support.model=\"springs\"",
-       "cavity.humor_inertia=\"translation\""});
-  nct::Model model = nct::make_model(MPI_COMM_WORLD, s);
+  nct::Model model
+      = pressed_eye({"support.model=\"springs\"", "cavity.humor_inertia=\"translation\""});
   auto& problem = model.solid->problem;
-  problem.set_press_profile([](const std::array<double, 3>& x)
-                              { return std::exp(-(x[0] * x[0] + x[2] * x[2]) / 4.5); });
-  problem.set_press(100 * mmHg);
   nct::cavity::Closed closed(problem, {20 * mmHg});
   problem.start_dynamics({5.0, 0.8, 0.0}); // a long step: the mass does not hide the rest
   const auto w = smooth_state(problem, false);
