@@ -96,6 +96,9 @@ int main(int argc, char* argv[])
   fit->add_flag("--dry-run", dry_run, "check the fit file and the start's scene; run nothing");
   fit->add_option("--launcher", launcher, "where the forward runs go (default: the fit's)")
       ->check(CLI::IsMember({"local", "slurm"}));
+  std::string patient;
+  fit->add_option("--patient", patient, "a cohort's fit file: fit this patient (a row of "
+                                        "its table) only");
 
   auto* describe = app.add_subcommand("describe", "print every scene key with its documentation");
   describe->add_flag("--markdown", markdown, "as a Markdown table");
@@ -135,16 +138,17 @@ int main(int argc, char* argv[])
       const auto program = std::filesystem::read_symlink("/proc/self/exe");
       if (fit->parsed())
       {
-        auto f = nct::fit::Fit::load(fit_file);
+        auto f = nct::fit::Fit::load(fit_file, patient);
         nct::fit::Options options;
         options.out = out.empty() ? std::filesystem::path("fits")
                                         / std::filesystem::path(fit_file).stem()
+                                        / (patient.empty() ? "" : "patients/" + patient)
                                   : std::filesystem::path(out);
         options.program = program;
         options.jobs = jobs;
         options.dry_run = dry_run;
         options.launcher = launcher;
-        return nct::fit::run(f, options);
+        return f.cohort ? nct::fit::run_cohort(f, options) : nct::fit::run(f, options);
       }
       auto s = nct::study::Study::load(study_file);
       nct::study::Options options;

@@ -713,7 +713,8 @@ int run(const Fit& fit, const Options& o)
     }
     fs::remove(log);
   }
-  std::cout << "fit " << fit.file.string() << ": " << n << " parameter(s), " << m
+  std::cout << "fit " << fit.file.string()
+            << (fit.patient ? " (patient " + fit.patient->id + ")" : std::string()) << ": " << n << " parameter(s), " << m
             << " weighted residual(s) from " << fit.observations.size() << " observation(s), "
             << (o.jobs > 0 ? o.jobs : fit.jobs) << " run(s) at once on " << fit.ranks
             << " rank(s) each -> " << o.out.string() << " (" << forward.reusable()
@@ -799,6 +800,8 @@ int run(const Fit& fit, const Options& o)
     warnings.push_back("the Jacobian is rank-deficient: the observations cannot determine every "
                        "parameter (no standard errors)");
   out["fit"] = fs::absolute(fit.file).string();
+  if (fit.patient)
+    out["patient"] = fit.patient->id;
   out["scene"] = fs::absolute(fit.scene).string();
   out["status"] = summary.termination_type == ceres::CONVERGENCE ? "converged"
                                                                  : "max_iterations";

@@ -6,6 +6,8 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +47,28 @@ struct Observation
   std::vector<double> t, x, value, sd; ///< per point (a biomarker: one, t and x unused)
 };
 
+/// One patient of a cohort: a row of its table (docs/manual.md, "Cohorts").
+struct Patient
+{
+  std::string id;                ///< the `patient` column: its folder's name in the output
+  std::size_t row = 0;           ///< its data row in the table (1: the line after the header)
+  std::filesystem::path folder;  ///< its readings: the observations' files are read there
+  std::vector<std::string> sets; ///< its scene keys (geometry, measured IOP...) as overrides
+  /// Per parameter label: a measured value with its SD (replaces the fit file's prior).
+  std::map<std::string, std::pair<double, double>> priors;
+  std::map<std::string, double> truths; ///< per parameter label: the truth (synthetic cohorts)
+  std::vector<std::pair<std::string, std::string>> covariates; ///< column, cell (age...)
+};
+
+/// A table of patients fitted one by one with the same fit file.
+struct Cohort
+{
+  std::filesystem::path table;        ///< the CSV, one row per patient
+  std::vector<std::string> covariates; ///< columns carried into the results (age...)
+  int at_once = 0;                    ///< patients fitted at once (0: from the jobs)
+  std::vector<Patient> patients;
+};
+
 /// A validated fit file (docs/manual.md, "Fits").
 struct Fit
 {
@@ -61,16 +85,24 @@ struct Fit
   bool central = false;          ///< central differences (2 runs per parameter)
   double tolerance = 1e-4;       ///< stop when the cost or the parameters change less
 
+  /// A fit file with a [cohort] table: its patients (the fit is each one's).
+  std::optional<Cohort> cohort;
+  /// The patient this fit is for (a cohort's row), if any.
+  std::optional<Patient> patient;
+
   /// Read and validate a fit file: its keys, the parameters' keys and
   /// bounds against the scene, the observations' files and whether the
   /// scene can produce them. Throws scene::Error before anything runs.
-  static Fit load(const std::filesystem::path& file);
+  /// A cohort's file: with `patient` empty every row is checked so (each
+  /// error naming its row) and `cohort` is set; else the fit of that
+  /// patient.
+  static Fit load(const std::filesystem::path& file, const std::string& patient = "");
 
   /// Weighted residuals: observation points, then priors.
   std::size_t residuals() const;
 };
 
-/// Command-line settings of a fit.
+/// Command-line settings of a fit (or of a cohort's fits).
 struct Options
 {
   std::filesystem::path out;     ///< fit folder
@@ -86,5 +118,12 @@ struct Options
 /// fit converged, 3 when it stopped otherwise (results written, status
 /// says why), 130 when interrupted (the same command resumes it).
 int run(const Fit& fit, const Options& options);
+
+/// Fit every patient of a cohort (fit.cohort), each an `nct fit --patient`
+/// of its own in out/patients/<id>, `at_once` at a time sharing the jobs;
+/// then cohort.csv and cohort.json in out. A patient already fitted is
+/// kept; an interrupted cohort resumes. Returns 0 when every fit
+/// converged, 3 otherwise, 130 when interrupted.
+int run_cohort(const Fit& fit, const Options& options);
 
 } // namespace nct::fit

@@ -3,9 +3,11 @@
 #include <cmath>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include "fit/fit.h"
+#include "jobs/jobs.h"
 #include "jobs/launcher_input.h"
 #include "io/csv.h"
 #include "io/format.h"
@@ -114,6 +116,208 @@ std::vector<std::vector<double>> read_points(const fs::path& csv, const std::str
   return rows;
 }
 
+/// The declaration of scene key `k` (a "*" declaration matches a part
+/// name), or null.
+const scene::Key* declared_key(const std::string& k)
+{
+  const auto& declared = scene::keys();
+  auto matches = [&](const scene::Key& d)
+  {
+    const auto star = d.name.find('*');
+    if (star == std::string::npos)
+      return d.name == k;
+    const std::string pre = d.name.substr(0, star), post = d.name.substr(star + 1);
+    if (k.size() <= pre.size() + post.size() || k.compare(0, pre.size(), pre) != 0
+        || k.compare(k.size() - post.size(), post.size(), post) != 0)
+      return false;
+    return k.substr(pre.size(), k.size() - pre.size() - post.size()).find('.')
+           == std::string::npos;
+  };
+  auto d = std::find_if(declared.begin(), declared.end(), matches);
+  return d == declared.end() ? nullptr : &*d;
+}
+
+/// The cells of a CSV line (no quoting), each trimmed.
+std::vector<std::string> cells(const std::string& line)
+{
+  std::vector<std::string> out;
+  std::istringstream in(line);
+  for (std::string c; std::getline(in, c, ',');)
+  {
+    const auto a = c.find_first_not_of(" \t\r"), b = c.find_last_not_of(" \t\r");
+    out.push_back(a == std::string::npos ? "" : c.substr(a, b - a + 1));
+  }
+  if (!line.empty() && line.back() == ',')
+    out.emplace_back();
+  return out;
+}
+
+/// The [cohort] table of a fit file and its patients' table (docs/manual.md,
+/// "Cohorts"): every column known, every cell readable, before any run.
+Cohort read_cohort(const toml::table& ct, const fs::path& file)
+{
+  io::KeyErrors errors(file, ct);
+  io::only(ct, {"table", "covariates", "patients"}, file, "cohort.", "[cohort]", errors);
+  errors.raise();
+  Cohort c;
+  c.table = io::file_path(file, "cohort.table", ct["table"].node(), "patients' table (CSV)");
+  if (const toml::node* cov = ct["covariates"].node())
+    c.covariates = io::string_list(*cov, file, "cohort.covariates", true);
+  c.at_once = int(io::integer(ct, "cohort", "patients", 0, 1, 4096, file));
+  const std::string table = c.table.string();
+
+  std::istringstream in(jobs::read_text(c.table));
+  std::string line;
+  std::size_t number = 0; // the file's line
+  auto next = [&]
+  {
+    while (std::getline(in, line))
+    {
+      ++number;
+      if (line.find_first_not_of(" \t\r") != std::string::npos && line[0] != '#')
+        return true;
+    }
+    return false;
+  };
+  if (!next())
+    throw Error(table + ": empty: a header (patient,folder,...) and a row per patient");
+  const std::vector<std::string> header = cells(line);
+
+  // Each column's role.
+  enum class Role { patient, folder, key, prior_mean, prior_sd, truth, covariate };
+  std::vector<std::pair<Role, std::string>> roles; // role, key or label
+  std::set<std::string> seen;
+  for (const auto& h : header)
+  {
+    if (!seen.insert(h).second)
+      throw Error(format("%s: the column '%s' is there twice", table.c_str(), h.c_str()));
+    auto ends = [&](const std::string& tail)
+    { return h.size() > tail.size() && h.compare(h.size() - tail.size(), tail.size(), tail) == 0; };
+    if (h == "patient" || h == "folder")
+      roles.push_back({h == "patient" ? Role::patient : Role::folder, h});
+    else if (h.rfind("prior.", 0) == 0 && (ends(".mean") || ends(".sd")))
+      roles.push_back({ends(".mean") ? Role::prior_mean : Role::prior_sd,
+                       h.substr(6, h.rfind('.') - 6)});
+    else if (h.rfind("truth.", 0) == 0)
+      roles.push_back({Role::truth, h.substr(6)});
+    else if (std::count(c.covariates.begin(), c.covariates.end(), h))
+      roles.push_back({Role::covariate, h});
+    else if (declared_key(h))
+      roles.push_back({Role::key, h});
+    else
+      throw Error(format("%s: the column '%s' is none of patient, folder, a scene key ('nct "
+                         "describe'), prior.<label>.mean, prior.<label>.sd, truth.<label> or a "
+                         "covariate (cohort.covariates in %s)",
+                         table.c_str(), h.c_str(), file.string().c_str()));
+  }
+  for (const char* required : {"patient", "folder"})
+    if (!seen.count(required))
+      throw Error(format("%s: the column '%s' is missing (%s)", table.c_str(), required,
+                         std::string(required) == "patient"
+                             ? "each patient's name"
+                             : "each patient's readings folder, relative to the table"));
+  for (const auto& [role, label] : roles)
+    if ((role == Role::prior_mean && !seen.count("prior." + label + ".sd"))
+        || (role == Role::prior_sd && !seen.count("prior." + label + ".mean")))
+      throw Error(format("%s: the column 'prior.%s.%s' is missing (a prior is a mean and an "
+                         "SD)",
+                         table.c_str(), label.c_str(), role == Role::prior_mean ? "sd" : "mean"));
+  for (const auto& cov : c.covariates)
+    if (!seen.count(cov))
+      throw Error(format("%s: the covariate '%s' (cohort.covariates in %s) is not a column",
+                         table.c_str(), cov.c_str(), file.string().c_str()));
+
+  std::set<std::string> ids;
+  while (next())
+  {
+    const auto row = cells(line);
+    Patient p;
+    p.row = c.patients.size() + 1;
+    const std::string where = format("%s line %zu (row %zu)", table.c_str(), number, p.row);
+    if (row.size() != header.size())
+      throw Error(format("%s: %zu cells for the header's %zu columns", where.c_str(), row.size(),
+                         header.size()));
+    auto real = [&](std::size_t i)
+    {
+      std::size_t used = 0;
+      double v = NAN;
+      try
+      {
+        v = std::stod(row[i], &used);
+      }
+      catch (const std::exception&)
+      {
+      }
+      if (used != row[i].size() || !std::isfinite(v))
+        throw Error(format("%s, column '%s': expected a number, got '%s'", where.c_str(),
+                           header[i].c_str(), row[i].c_str()));
+      return v;
+    };
+    std::map<std::string, double> means, sds;
+    for (std::size_t i = 0; i < row.size(); ++i)
+    {
+      const auto& [role, name] = roles[i];
+      if (row[i].empty() && role != Role::patient && role != Role::folder)
+        continue; // the fit file's (or the scene's) value
+      switch (role)
+      {
+      case Role::patient:
+        p.id = row[i];
+        break;
+      case Role::folder:
+        p.folder = c.table.parent_path() / row[i];
+        break;
+      case Role::key:
+        p.sets.push_back(name + "=" + row[i]);
+        break;
+      case Role::prior_mean:
+        means[name] = real(i);
+        break;
+      case Role::prior_sd:
+        sds[name] = real(i);
+        if (!(sds[name] > 0))
+          throw Error(format("%s, column '%s': must be above 0, got %s", where.c_str(),
+                             header[i].c_str(), row[i].c_str()));
+        break;
+      case Role::truth:
+        p.truths[name] = real(i);
+        break;
+      case Role::covariate:
+        p.covariates.push_back({name, row[i]});
+        break;
+      }
+    }
+    try
+    {
+      io::check_name(c.table, "patient", p.id, "the patient's folder in the output");
+    }
+    catch (const Error& e)
+    {
+      throw Error(where + ", column 'patient': " + (p.id.empty() ? "empty" : e.what()));
+    }
+    if (!ids.insert(p.id).second)
+      throw Error(format("%s: the patient '%s' is there twice", where.c_str(), p.id.c_str()));
+    if (!fs::is_directory(p.folder))
+      throw Error(format("%s (patient %s), column 'folder': %s is not a folder", where.c_str(),
+                         p.id.c_str(), p.folder.string().c_str()));
+    for (auto& [label, mean] : means)
+    {
+      if (!sds.count(label))
+        throw Error(format("%s (patient %s): prior.%s.mean without its prior.%s.sd",
+                           where.c_str(), p.id.c_str(), label.c_str(), label.c_str()));
+      p.priors[label] = {mean, sds[label]};
+    }
+    for (auto& [label, sd] : sds)
+      if (!means.count(label))
+        throw Error(format("%s (patient %s): prior.%s.sd without its prior.%s.mean",
+                           where.c_str(), p.id.c_str(), label.c_str(), label.c_str()));
+    c.patients.push_back(std::move(p));
+  }
+  if (c.patients.empty())
+    throw Error(table + ": no patient: a row per patient under the header");
+  return c;
+}
+
 Parameter read_parameter(const toml::table& pt, std::size_t i, const Fit& fit,
                          io::KeyErrors& errors)
 {
@@ -127,24 +331,11 @@ Parameter read_parameter(const toml::table& pt, std::size_t i, const Fit& fit,
   p.keys = io::string_list(*pt["key"].node(), file, where + "key", true);
   if (p.keys.empty())
     throw key_error(file, where + "key", "name at least one scene key");
-  const auto& declared = scene::keys();
   for (auto& k : p.keys)
   {
-    // The key must be a real scene key (a "*" declaration matches a part name).
-    auto matches = [&](const scene::Key& d)
-    {
-      const auto star = d.name.find('*');
-      if (star == std::string::npos)
-        return d.name == k;
-      const std::string pre = d.name.substr(0, star), post = d.name.substr(star + 1);
-      if (k.size() <= pre.size() + post.size() || k.compare(0, pre.size(), pre) != 0
-          || k.compare(k.size() - post.size(), post.size(), post) != 0)
-        return false;
-      return k.substr(pre.size(), k.size() - pre.size() - post.size()).find('.')
-             == std::string::npos;
-    };
-    auto d = std::find_if(declared.begin(), declared.end(), matches);
-    if (d == declared.end())
+    // The key must be a real scene key.
+    const scene::Key* d = declared_key(k);
+    if (!d)
       throw key_error(file, where + "key", "'" + k + "' is not a scene key ('nct describe' "
                                                     "lists them)");
     if (d->kind != scene::Kind::real)
@@ -220,6 +411,8 @@ Parameter read_parameter(const toml::table& pt, std::size_t i, const Fit& fit,
 Observation read_observation(const toml::table& ot, std::size_t i, const Fit& fit,
                              std::optional<double> duration, io::KeyErrors& errors)
 {
+  // A cohort's patient: the files are in the patient's folder.
+  const Patient* patient = fit.patient ? &*fit.patient : nullptr;
   const fs::path& file = fit.file;
   const std::string where = "observation[" + std::to_string(i + 1) + "].";
   const int kinds = ot.contains("biomarker") + ot.contains("curve") + ot.contains("profile");
@@ -264,7 +457,18 @@ Observation read_observation(const toml::table& ot, std::size_t i, const Fit& fi
     else
       io::only(ot, {"profile", "surface", "reference", "sd", "label"}, file, where,
                "a profile observation", errors);
-    o.file = io::file_path(file, where + name, ot[name].node(), "CSV file");
+    if (patient)
+    {
+      const auto cell = ot[name].value_exact<std::string>();
+      if (!cell)
+        throw key_error(file, where + name, "missing or not a string: CSV file");
+      o.file = patient->folder / *cell;
+      if (!fs::is_regular_file(o.file))
+        throw key_error(file, where + name, "the patient's CSV file " + o.file.string()
+                                                + " not found");
+    }
+    else
+      o.file = io::file_path(file, where + name, ot[name].node(), "CSV file");
     const double sd = sd_key();
     if (curve)
     {
@@ -338,11 +542,49 @@ std::size_t Fit::residuals() const
   return m;
 }
 
-Fit Fit::load(const fs::path& file)
+namespace
 {
-  const toml::table t = io::parse_toml(file, "fit file");
+
+/// A patient's priors (replacing the file's) and truths, checked against
+/// the parameters; its scene keys must not be fitted ones.
+void apply_patient(Fit& fit, const Patient& patient)
+{
+  auto parameter = [&](const std::string& label, const std::string& column) -> Parameter&
+  {
+    for (auto& p : fit.parameters)
+      if (p.label == label)
+        return p;
+    throw Error("column '" + column + "': no parameter is labelled '" + label + "'");
+  };
+  for (const auto& [label, prior] : patient.priors)
+  {
+    Parameter& p = parameter(label, "prior." + label + ".mean");
+    p.prior = true;
+    p.prior_mean = prior.first;
+    p.prior_sd = prior.second;
+  }
+  for (const auto& [label, truth] : patient.truths)
+  {
+    const Parameter& p = parameter(label, "truth." + label);
+    if (truth < p.lower || truth > p.upper)
+      throw Error(format("column 'truth.%s': %g is outside the parameter's bounds [%g, %g]",
+                         label.c_str(), truth, p.lower, p.upper));
+  }
+  for (const auto& set : patient.sets)
+  {
+    const std::string key = set.substr(0, set.find('='));
+    for (const auto& p : fit.parameters)
+      if (std::count(p.keys.begin(), p.keys.end(), key))
+        throw Error("column '" + key + "' sets a key the fit varies (parameter '" + p.label
+                    + "'): give a measured value as prior." + p.label + ".mean and .sd");
+  }
+}
+
+/// The fit of a fit file's toml `t`, for `patient` (a cohort's row) if not null.
+Fit load_one(const toml::table& t, const fs::path& file, const Patient* patient)
+{
   io::KeyErrors errors(file, t);
-  io::only(t, {"fit", "parameter", "observation"}, file, "", "a fit file", errors);
+  io::only(t, {"fit", "parameter", "observation", "cohort"}, file, "", "a fit file", errors);
   const toml::table* ft = t["fit"].as_table();
   if (!ft)
   {
@@ -354,6 +596,8 @@ Fit Fit::load(const fs::path& file)
            file, "fit.", "[fit]", errors);
   Fit fit;
   fit.file = file;
+  if (patient)
+    fit.patient = *patient;
   bool scene_read = errors.attempt(
       [&] { fit.scene = io::file_path(file, "fit.scene", (*ft)["scene"].node(), "scene file"); });
   scene_read = errors.attempt([&] {
@@ -411,6 +655,19 @@ Fit Fit::load(const fs::path& file)
           throw key_error(file, "fit.set", e.what());
         }
       }();
+      // A patient's columns (geometry, measured IOP...) on top.
+      if (patient && !patient->sets.empty())
+      {
+        fit.sets.insert(fit.sets.end(), patient->sets.begin(), patient->sets.end());
+        try
+        {
+          base = scene::Scene::load(fit.scene, fit.sets);
+        }
+        catch (const Error& e)
+        {
+          throw Error(std::string("its columns of scene keys: ") + e.what());
+        }
+      }
       scene::Reader reader(base);
       PuffSettings puff;
       visit(reader, puff);
@@ -443,6 +700,8 @@ Fit Fit::load(const fs::path& file)
       });
   });
 
+  if (patient && errors.empty())
+    errors.attempt([&] { apply_patient(fit, *patient); });
   if (errors.empty() && fit.residuals() < fit.parameters.size())
     errors.add(key_error(file, "observation", format("%zu measured values (with priors) cannot "
                                                      "determine %zu parameters",
@@ -450,6 +709,65 @@ Fit Fit::load(const fs::path& file)
                    .what());
   errors.raise();
   return fit;
+}
+
+} // namespace
+
+Fit Fit::load(const fs::path& file, const std::string& patient)
+{
+  const toml::table t = io::parse_toml(file, "fit file");
+  const toml::table* ct = t["cohort"].as_table();
+  if (t.contains("cohort") && !ct)
+    throw key_error(file, "cohort", "expected a table ([cohort], table = \"patients.csv\")");
+  if (!ct)
+  {
+    if (!patient.empty())
+      throw Error(file.string() + ": --patient " + patient + ": the fit file has no [cohort] "
+                                  "table of patients");
+    return load_one(t, file, nullptr);
+  }
+  Cohort cohort = read_cohort(*ct, file);
+  auto where = [&](const Patient& p)
+  {
+    return format("%s row %zu (patient %s): ", cohort.table.string().c_str(), p.row,
+                  p.id.c_str());
+  };
+  if (!patient.empty())
+  {
+    auto p = std::find_if(cohort.patients.begin(), cohort.patients.end(),
+                          [&](const Patient& q) { return q.id == patient; });
+    if (p == cohort.patients.end())
+      throw Error(file.string() + ": --patient " + patient + ": no such patient in "
+                  + cohort.table.string());
+    try
+    {
+      return load_one(t, file, &*p);
+    }
+    catch (const Error& e)
+    {
+      throw Error(where(*p) + e.what());
+    }
+  }
+  // Every patient's fit is checked before any runs; every row's problem told.
+  std::string problems;
+  std::optional<Fit> first;
+  for (const Patient& p : cohort.patients)
+    try
+    {
+      Fit f = load_one(t, file, &p);
+      if (!first)
+        first = std::move(f);
+    }
+    catch (const Error& e)
+    {
+      problems += (problems.empty() ? "" : "\n") + where(p) + e.what();
+    }
+  if (!problems.empty())
+    throw Error(problems);
+  first->patient.reset();
+  first->sets.resize(first->sets.size() - cohort.patients[0].sets.size());
+  first->cohort = std::move(cohort);
+  return *first;
 }
 
 } // namespace nct::fit

@@ -1,0 +1,259 @@
+// A cohort's fits (cpp/fit/fit.h): every patient's `nct fit --patient`,
+// several at once sharing the forward runs' jobs, and one table of them.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "fit/fit.h"
+#include "io/format.h"
+#include "io/output.h"
+#include "io/toml_input.h"
+#include "jobs/jobs.h"
+#include "jobs/launcher_input.h"
+#include "scene/scene.h"
+
+namespace nct::fit
+{
+namespace fs = std::filesystem;
+using io::format;
+
+namespace
+{
+
+/// A patient's row as recorded in its folder: a changed row is fitted again.
+nlohmann::json record(const Patient& p)
+{
+  return {{"patient", p.id},    {"folder", fs::absolute(p.folder).lexically_normal()},
+          {"sets", p.sets},     {"priors", p.priors},
+          {"truths", p.truths}, {"covariates", p.covariates}};
+}
+
+/// A CSV cell: a number as written back exactly, text as it is, none empty.
+std::string cell(const nlohmann::json& v)
+{
+  if (v.is_number())
+    return io::literal(v.get<double>());
+  if (v.is_boolean())
+    return v.get<bool>() ? "1" : "0";
+  if (v.is_string())
+  {
+    std::string s = v.get<std::string>();
+    std::replace(s.begin(), s.end(), ',', ';');
+    return s;
+  }
+  return "";
+}
+
+/// One row of the cohort's table from a patient's fit.json (null: not fitted).
+nlohmann::json row(const Patient& p, const nlohmann::json& result, const std::string& status)
+{
+  nlohmann::json r = nlohmann::json::object();
+  r["patient"] = p.id;
+  r["status"] = status;
+  for (auto& [name, value] : p.covariates)
+    r[name] = value;
+  for (auto& set : p.sets)
+    r[set.substr(0, set.find('='))] = set.substr(set.find('=') + 1);
+  if (result.is_null())
+    return r;
+  const auto& params = result["parameters"];
+  for (std::size_t i = 0; i < params.size(); ++i)
+  {
+    const auto& q = params[i];
+    const std::string l = q["label"];
+    r[l] = q["value"];
+    r[l + "_se"] = q["se"];
+    r[l + "_lo"] = q["ci95"][0];
+    r[l + "_hi"] = q["ci95"][1];
+    r[l + "_at_bound"] = q["at_bound"];
+    if (q.contains("prior"))
+      r[l + "_prior"] = q["prior"]["mean"];
+    if (auto t = p.truths.find(l); t != p.truths.end())
+    {
+      r["truth_" + l] = t->second;
+      r[l + "_error"] = q["value"].get<double>() - t->second;
+      if (!q["ci95"][0].is_null() && !q["ci95"][1].is_null())
+        r[l + "_inside"] = q["ci95"][0].get<double>() <= t->second
+                           && t->second <= q["ci95"][1].get<double>();
+    }
+    for (std::size_t j = i + 1; j < params.size(); ++j)
+      r["corr_" + l + "_" + params[j]["label"].get<std::string>()] = result["correlation"][i][j];
+  }
+  for (const char* k : {"chi2", "dof", "reduced_chi2", "iterations", "forward_runs", "wall_s"})
+    r[k] = result[k];
+  std::string warnings;
+  for (auto& w : result["warnings"])
+    warnings += (warnings.empty() ? "" : " | ") + w.get<std::string>();
+  r["warnings"] = warnings;
+  return r;
+}
+
+/// The table's columns: the first row's order, then any other's new ones.
+std::vector<std::string> columns(const nlohmann::json& rows)
+{
+  std::vector<std::string> out;
+  for (auto& r : rows)
+    for (auto& [k, v] : r.items())
+      if (!std::count(out.begin(), out.end(), k))
+        out.push_back(k);
+  // warnings last: the widest
+  auto w = std::find(out.begin(), out.end(), "warnings");
+  if (w != out.end())
+    std::rotate(w, w + 1, out.end());
+  return out;
+}
+
+} // namespace
+
+int run_cohort(const Fit& fit, const Options& o)
+{
+  const auto start = std::chrono::steady_clock::now();
+  const Cohort& cohort = *fit.cohort;
+  fs::create_directories(o.out / "patients");
+  if (fs::exists(o.out / "fit.toml")
+      && jobs::read_text(o.out / "fit.toml") != jobs::read_text(fit.file))
+    throw scene::Error(fit.file.string() + ": " + o.out.string() + " holds another cohort (its "
+                       "fit.toml differs); give a new --out or remove it");
+  jobs::catch_interrupts();
+  // Slurm must take the options before any patient's fit starts.
+  jobs::launcher_for(fit.launcher, o.launcher, o.out, fit.ranks, "fit", fit.file);
+
+  // The jobs (forward runs at once) shared among the patients fitted at
+  // once: by default as many patients as one iteration's runs fill.
+  const int jobs = o.jobs > 0 ? o.jobs : fit.jobs;
+  const int batch = 1 + int(fit.parameters.size()) * (fit.central ? 2 : 1);
+  const int n = int(cohort.patients.size());
+  const int at_once = std::min(n, cohort.at_once > 0 ? cohort.at_once : std::max(1, jobs / batch));
+  const int per_patient = std::max(1, jobs / at_once);
+
+  std::vector<jobs::Job> todo;
+  std::vector<std::size_t> index; // todo -> patient
+  int kept = 0;
+  for (std::size_t i = 0; i < cohort.patients.size(); ++i)
+  {
+    const Patient& p = cohort.patients[i];
+    const fs::path dir = o.out / "patients" / p.id;
+    const std::string row_json = record(p).dump(2) + "\n";
+    if (fs::exists(dir / "fit.json") && jobs::read_text(dir / "patient.json") == row_json)
+    {
+      ++kept;
+      continue;
+    }
+    std::vector<std::string> argv = {o.program.string(), "fit", fs::absolute(fit.file).string(),
+                                     "--patient", p.id, "--out", fs::absolute(dir).string(),
+                                     "--jobs", std::to_string(per_patient)};
+    if (!o.launcher.empty())
+      argv.insert(argv.end(), {"--launcher", o.launcher});
+    todo.push_back({argv, fs::absolute(dir / "fit.log"), 1, "", [dir, row_json]
+                    {
+                      fs::create_directories(dir);
+                      fs::remove(dir / "fit.json"); // a changed row's old answer
+                      io::write_atomic(dir / "patient.json", row_json);
+                    }});
+    index.push_back(i);
+  }
+  std::cout << "cohort " << fit.file.string() << ": " << n << " patient(s) from "
+            << cohort.table.string() << ", " << fit.parameters.size() << " parameter(s) each; "
+            << at_once << " patient(s) at once, " << per_patient << " forward run(s) at once "
+            << "each -> " << o.out.string() << " (" << kept << " fitted before)" << std::endl;
+  if (o.dry_run)
+  {
+    std::cout << "cohort: every patient's fit checks out; nothing run (--dry-run)" << std::endl;
+    return 0;
+  }
+  io::write_atomic(o.out / "fit.toml", jobs::read_text(fit.file));
+
+  int finished = kept;
+  const bool complete = jobs::run(todo, at_once, [&](std::size_t k, int code)
+  {
+    const Patient& p = cohort.patients[index[k]];
+    const fs::path dir = o.out / "patients" / p.id;
+    ++finished;
+    const double wall
+        = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::string line = format("patient %-12s ", p.id.c_str());
+    if (code == 130 || jobs::interrupted())
+      line += "interrupted";
+    else if (!fs::exists(dir / "fit.json"))
+      line += format("failed (exit %d): %s", code,
+                     jobs::tail(jobs::read_text(dir / "fit.log"), 2).c_str());
+    else
+    {
+      const auto r = nlohmann::json::parse(jobs::read_text(dir / "fit.json"));
+      line += r["status"].get<std::string>();
+      for (auto& q : r["parameters"])
+        line += format("  %s %.5g", q["label"].get<std::string>().c_str(),
+                       q["value"].get<double>())
+                + (q["se"].is_null() ? std::string(" (no SE)")
+                                     : format(" +- %.2g", q["se"].get<double>()));
+      line += format("  chi2/dof %.3g  %d runs", r["reduced_chi2"].get<double>(),
+                     r["forward_runs"].get<int>());
+    }
+    std::cout << line << format("  [%d/%d, %.0f s]", finished, n, wall) << std::endl;
+  });
+  if (!complete)
+  {
+    std::cerr << "cohort: interrupted; the same command resumes it (finished patients are "
+                 "kept, the others' forward runs too)"
+              << std::endl;
+    return 130;
+  }
+
+  // The table: a row per patient, fitted or not.
+  nlohmann::json rows = nlohmann::json::array();
+  int converged = 0, inside = 0, with_truth = 0;
+  for (const Patient& p : cohort.patients)
+  {
+    const fs::path dir = o.out / "patients" / p.id;
+    nlohmann::json result;
+    std::string status = "failed";
+    if (fs::exists(dir / "fit.json"))
+    {
+      result = nlohmann::json::parse(jobs::read_text(dir / "fit.json"));
+      status = result["status"];
+    }
+    converged += status == "converged";
+    rows.push_back(row(p, result, status));
+    for (auto& [label, truth] : p.truths)
+      if (rows.back().contains(label + "_inside"))
+        ++with_truth, inside += rows.back()[label + "_inside"].get<bool>();
+  }
+  std::ostringstream csv;
+  const auto cols = columns(rows);
+  for (std::size_t c = 0; c < cols.size(); ++c)
+    csv << (c ? "," : "") << cols[c];
+  csv << "\n";
+  for (auto& r : rows)
+  {
+    for (std::size_t c = 0; c < cols.size(); ++c)
+      csv << (c ? "," : "") << (r.contains(cols[c]) ? cell(r[cols[c]]) : "");
+    csv << "\n";
+  }
+  io::write_atomic(o.out / "cohort.csv", csv.str());
+  const double wall
+      = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  nlohmann::json out = {{"fit", fs::absolute(fit.file).string()},
+                        {"table", fs::absolute(cohort.table).string()},
+                        {"patients", n},
+                        {"converged", converged},
+                        {"patients_at_once", at_once},
+                        {"jobs_per_patient", per_patient},
+                        {"wall_s", wall},
+                        {"rows", rows}};
+  if (with_truth)
+    out["truths_inside_ci95"] = {{"held", inside}, {"of", with_truth}};
+  io::write_atomic(o.out / "cohort.json", out.dump(2) + "\n");
+  std::cout << "\ncohort: " << converged << " of " << n << " fits converged";
+  if (with_truth)
+    std::cout << "; " << inside << " of " << with_truth << " truths inside their 95 % intervals";
+  std::cout << format("; %.0f s", wall) << "\ncohort.csv, cohort.json in " << o.out.string()
+            << "; plots: /usr/bin/python3 scripts/plot-cohort.py " << o.out.string()
+            << std::endl;
+  return converged == n ? 0 : 3;
+}
+
+} // namespace nct::fit
