@@ -152,40 +152,26 @@ std::vector<std::string> cells(const std::string& line)
   return out;
 }
 
-/// The [cohort] table of a fit file and its patients' table (docs/manual.md,
-/// "Cohorts"): every column known, every cell readable, before any run.
-Cohort read_cohort(const toml::table& ct, const fs::path& file)
+/// What a column of a patients' table holds.
+enum class Role
 {
-  io::KeyErrors errors(file, ct);
-  io::only(ct, {"table", "covariates", "patients"}, file, "cohort.", "[cohort]", errors);
-  errors.raise();
-  Cohort c;
-  c.table = io::file_path(file, "cohort.table", ct["table"].node(), "patients' table (CSV)");
-  if (const toml::node* cov = ct["covariates"].node())
-    c.covariates = io::string_list(*cov, file, "cohort.covariates", true);
-  c.at_once = int(io::integer(ct, "cohort", "patients", 0, 1, 4096, file));
+  patient,    ///< the patient's name
+  folder,     ///< the readings' folder
+  key,        ///< a scene key's value
+  prior_mean, ///< prior.<label>.mean
+  prior_sd,   ///< prior.<label>.sd
+  truth,      ///< truth.<label>
+  covariate   ///< carried as it is
+};
+using Column = std::pair<Role, std::string>; ///< the role, and the key or label
+
+/// Each column's role from the table's header; a column of no known kind,
+/// or one missing, named.
+std::vector<Column> column_roles(const std::vector<std::string>& header, const Cohort& c,
+                                 const fs::path& file)
+{
   const std::string table = c.table.string();
-
-  std::istringstream in(jobs::read_text(c.table));
-  std::string line;
-  std::size_t number = 0; // the file's line
-  auto next = [&]
-  {
-    while (std::getline(in, line))
-    {
-      ++number;
-      if (line.find_first_not_of(" \t\r") != std::string::npos && line[0] != '#')
-        return true;
-    }
-    return false;
-  };
-  if (!next())
-    throw Error(table + ": empty: a header (patient,folder,...) and a row per patient");
-  const std::vector<std::string> header = cells(line);
-
-  // Each column's role.
-  enum class Role { patient, folder, key, prior_mean, prior_sd, truth, covariate };
-  std::vector<std::pair<Role, std::string>> roles; // role, key or label
+  std::vector<Column> roles;
   std::set<std::string> seen;
   for (const auto& h : header)
   {
@@ -226,6 +212,42 @@ Cohort read_cohort(const toml::table& ct, const fs::path& file)
     if (!seen.count(cov))
       throw Error(format("%s: the covariate '%s' (cohort.covariates in %s) is not a column",
                          table.c_str(), cov.c_str(), file.string().c_str()));
+
+  return roles;
+}
+
+/// The [cohort] table of a fit file and its patients' table (docs/manual.md,
+/// "Cohorts"): every column known, every cell readable, before any run.
+Cohort read_cohort(const toml::table& ct, const fs::path& file)
+{
+  io::KeyErrors errors(file, ct);
+  io::only(ct, {"table", "covariates", "patients"}, file, "cohort.", "[cohort]", errors);
+  errors.raise();
+  Cohort c;
+  c.table = io::file_path(file, "cohort.table", ct["table"].node(), "patients' table (CSV)");
+  if (const toml::node* cov = ct["covariates"].node())
+    c.covariates = io::string_list(*cov, file, "cohort.covariates", true);
+  c.at_once = int(io::integer(ct, "cohort", "patients", 0, 1, 4096, file));
+  const std::string table = c.table.string();
+
+  std::istringstream in(jobs::read_text(c.table));
+  std::string line;
+  std::size_t number = 0; // the file's line
+  auto next = [&]
+  {
+    while (std::getline(in, line))
+    {
+      ++number;
+      if (line.find_first_not_of(" \t\r") != std::string::npos && line[0] != '#')
+        return true;
+    }
+    return false;
+  };
+  if (!next())
+    throw Error(table + ": empty: a header (patient,folder,...) and a row per patient");
+  const std::vector<std::string> header = cells(line);
+
+  const std::vector<Column> roles = column_roles(header, c, file);
 
   std::set<std::string> ids;
   while (next())
