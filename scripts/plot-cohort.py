@@ -7,8 +7,8 @@ Usage: /usr/bin/python3 scripts/plot-cohort.py DIR [--out PNGDIR]
 DIR is the cohort's folder (its cohort.csv). Writes into PNGDIR (default
 DIR):
 - cohort-iop.png: each patient's first parameter (the stiffness) with its
-  95 % interval against the IOP: the fitted one when the IOP is a
-  parameter labelled iop, else the table's inflate.iop column;
+  95 % interval against the IOP: the fitted one (with its interval) when
+  the IOP is a parameter labelled iop, else the table's inflate.iop column;
 - cohort-age.png: the same against age, when the table has an age column;
 - cohort-recovery.png: per parameter with truths (truth.<label> columns),
   the fitted value and its interval against the truth, with the identity;
@@ -54,13 +54,19 @@ def main():
     params = labels(rows)
     stiff = params[0]
 
-    def errorbar(ax, x, label, **kw):
+    def bars(label):
+        """The 95 % interval of a fitted label as error bars about its values."""
+        v = [number(r[label]) for r in rows]
+        lo = [vi - number(r[label + "_lo"]) if number(r[label + "_lo"]) is not None else 0
+              for vi, r in zip(v, rows)]
+        hi = [number(r[label + "_hi"]) - vi if number(r[label + "_hi"]) is not None else 0
+              for vi, r in zip(v, rows)]
+        return [lo, hi]
+
+    def errorbar(ax, x, label, xlabel=None):
         y = [number(r[label]) for r in rows]
-        lo = [yi - number(r[label + "_lo"]) if number(r[label + "_lo"]) is not None else 0
-              for yi, r in zip(y, rows)]
-        hi = [number(r[label + "_hi"]) - yi if number(r[label + "_hi"]) is not None else 0
-              for yi, r in zip(y, rows)]
-        ax.errorbar(x, y, yerr=[lo, hi], fmt="o", capsize=3, **kw)
+        ax.errorbar(x, y, yerr=bars(label), xerr=bars(xlabel) if xlabel in params else None,
+                    fmt="o", capsize=3)
         for xi, yi, r in zip(x, y, rows):
             ax.annotate(r["patient"], (xi, yi), textcoords="offset points", xytext=(4, 4),
                         fontsize=7)
@@ -74,7 +80,7 @@ def main():
         against.append(("age", "age [years]", "cohort-age.png"))
     for column, xlabel, name in against:
         fig, ax = plt.subplots(figsize=(6, 4.5))
-        errorbar(ax, [number(r[column]) for r in rows], stiff)
+        errorbar(ax, [number(r[column]) for r in rows], stiff, column)
         ax.set_xlabel(xlabel)
         ax.set_ylabel("%s (95 %% interval)" % stiff)
         ax.set_title("%s: %d patients" % (a.dir.name, len(rows)))

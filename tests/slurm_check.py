@@ -15,6 +15,9 @@ slurm_check.py NCT MODE OUT [REFERENCE]
   fit's values (REFERENCE, fit_recovery's folder) to 1e-12, straight
   through, interrupted (SIGINT: it cancels what it submitted) and
   resumed, and with its driver killed (it follows its queued runs).
+- cohort: the fit_cohort cohort (REFERENCE, its folder) with
+  launcher = "slurm": every patient's forward runs go to the cluster as
+  job arrays, and the table equals the local cohort's to 1e-12.
 - run: one scene on 2 ranks under sbatch and srun --mpi=pmix equals the
   same scene under mpirun -n 2 (the README's multi-node recipe).
 - bad: a Slurm launcher Slurm refuses (unknown partition, a bad time
@@ -215,6 +218,23 @@ elif mode == "fit":
     r = run([nct, "fit", one_at_a_time, "--out", folder], check=0)
     assert "followed, not submitted again" in r.stdout, r.stdout
     same_fit(folder)
+elif mode == "cohort":
+    shutil.copytree(os.path.join(reference, "data"), os.path.join(out, "data"))
+    text = open(os.path.join(reference, "cohort.toml")).read()
+    path = os.path.join(out, "cohort.toml")
+    open(path, "w").write(text.replace("jobs = 2", 'jobs = 2\nlauncher = "slurm"'))
+    folder = os.path.join(out, "fit")
+    r = run([nct, "fit", path, "--out", folder], check=0)
+    local = {row["patient"]: row for row in csv.DictReader(open(os.path.join(reference, "fit", "cohort.csv")))}
+    rows = list(csv.DictReader(open(os.path.join(folder, "cohort.csv"))))
+    assert sorted(local) == sorted(row["patient"] for row in rows)
+    for row in rows:
+        log = open(os.path.join(folder, "patients", row["patient"], "fit.log")).read()
+        assert "slurm: submitted" in log, log
+        for label in ("c10_cornea", "iop"):
+            a, b = float(row[label]), float(local[row["patient"]][label])
+            print("%s %s: Slurm %.12g, local %.12g" % (row["patient"], label, a, b))
+            assert abs(a - b) <= 1e-12 * abs(b), (row["patient"], label)
 elif mode == "run":
     scene = os.path.join(root, "tests", "scenes", "sphere_inflation.toml")
     local = os.path.join(out, "mpirun")
