@@ -33,8 +33,10 @@ nlohmann::json record(const Patient& p)
 }
 
 /// A CSV cell: a number as written back exactly, text as it is, none empty.
-std::string cell(const nlohmann::json& v)
+std::string cell(const nlohmann::ordered_json& v)
 {
+  if (v.is_number_integer())
+    return std::to_string(v.get<long>());
   if (v.is_number())
     return io::literal(v.get<double>());
   if (v.is_boolean())
@@ -49,9 +51,10 @@ std::string cell(const nlohmann::json& v)
 }
 
 /// One row of the cohort's table from a patient's fit.json (null: not fitted).
-nlohmann::json row(const Patient& p, const nlohmann::json& result, const std::string& status)
+nlohmann::ordered_json row(const Patient& p, const nlohmann::json& result,
+                           const std::string& status)
 {
-  nlohmann::json r = nlohmann::json::object();
+  nlohmann::ordered_json r = nlohmann::ordered_json::object();
   r["patient"] = p.id;
   r["status"] = status;
   for (auto& [name, value] : p.covariates)
@@ -93,7 +96,7 @@ nlohmann::json row(const Patient& p, const nlohmann::json& result, const std::st
 }
 
 /// The table's columns: the first row's order, then any other's new ones.
-std::vector<std::string> columns(const nlohmann::json& rows)
+std::vector<std::string> columns(const nlohmann::ordered_json& rows)
 {
   std::vector<std::string> out;
   for (auto& r : rows)
@@ -123,11 +126,12 @@ int run_cohort(const Fit& fit, const Options& o)
   jobs::launcher_for(fit.launcher, o.launcher, o.out, fit.ranks, "fit", fit.file);
 
   // The jobs (forward runs at once) shared among the patients fitted at
-  // once: by default as many patients as one iteration's runs fill.
+  // once: by default a job each, so that no job waits while a patient's
+  // iteration finishes its last runs (a cohort's throughput, not a
+  // patient's latency).
   const int jobs = o.jobs > 0 ? o.jobs : fit.jobs;
-  const int batch = 1 + int(fit.parameters.size()) * (fit.central ? 2 : 1);
   const int n = int(cohort.patients.size());
-  const int at_once = std::min(n, cohort.at_once > 0 ? cohort.at_once : std::max(1, jobs / batch));
+  const int at_once = std::min(n, cohort.at_once > 0 ? cohort.at_once : jobs);
   const int per_patient = std::max(1, jobs / at_once);
 
   std::vector<jobs::Job> todo;
@@ -204,7 +208,7 @@ int run_cohort(const Fit& fit, const Options& o)
   }
 
   // The table: a row per patient, fitted or not.
-  nlohmann::json rows = nlohmann::json::array();
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   int converged = 0, inside = 0, with_truth = 0;
   for (const Patient& p : cohort.patients)
   {
@@ -236,7 +240,7 @@ int run_cohort(const Fit& fit, const Options& o)
   io::write_atomic(o.out / "cohort.csv", csv.str());
   const double wall
       = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  nlohmann::json out = {{"fit", fs::absolute(fit.file).string()},
+  nlohmann::ordered_json out = {{"fit", fs::absolute(fit.file).string()},
                         {"table", fs::absolute(cohort.table).string()},
                         {"patients", n},
                         {"converged", converged},
