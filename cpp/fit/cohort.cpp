@@ -110,6 +110,39 @@ std::vector<std::string> columns(const nlohmann::ordered_json& rows)
   return out;
 }
 
+/// Every patient's scene at the start must pass nct check (its eye's
+/// geometry with its thickness, radius...) before anything runs: a
+/// scene::Error naming each row that does not.
+void check_patients(const Fit& fit, const Options& o, int at_once)
+{
+  const Cohort& cohort = *fit.cohort;
+  const fs::path dir = o.out / "check";
+  fs::create_directories(dir);
+  std::vector<jobs::Job> checks;
+  for (const Patient& p : cohort.patients)
+  {
+    std::vector<std::string> sets = fit.sets;
+    sets.insert(sets.end(), p.sets.begin(), p.sets.end());
+    for (const Parameter& q : fit.parameters)
+      for (const auto& k : q.keys)
+        sets.push_back(k + "=" + io::literal(q.start));
+    checks.push_back({jobs::nct_command(o.program, "check", fit.scene, sets, {}),
+                      dir / (p.id + ".log"), 1, fit.mpiexec, nullptr});
+  }
+  std::string problems;
+  jobs::run(checks, at_once, [&](std::size_t i, int code)
+  {
+    const Patient& p = cohort.patients[i];
+    if (code != 0 && !jobs::interrupted())
+      problems += format("%s%s row %zu (patient %s): the start's scene: %s",
+                         problems.empty() ? "" : "\n", cohort.table.string().c_str(), p.row,
+                         p.id.c_str(), jobs::tail(jobs::read_text(checks[i].log), 2).c_str());
+  });
+  if (!problems.empty())
+    throw scene::Error(problems);
+  fs::remove_all(dir);
+}
+
 } // namespace
 
 int run_cohort(const Fit& fit, const Options& o)
@@ -133,6 +166,10 @@ int run_cohort(const Fit& fit, const Options& o)
   const int n = int(cohort.patients.size());
   const int at_once = std::min(n, cohort.at_once > 0 ? cohort.at_once : jobs);
   const int per_patient = std::max(1, jobs / at_once);
+
+  check_patients(fit, o, jobs);
+  if (jobs::interrupted())
+    return 130;
 
   std::vector<jobs::Job> todo;
   std::vector<std::size_t> index; // todo -> patient
