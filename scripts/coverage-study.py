@@ -145,7 +145,7 @@ def main():
     chi = [x["reduced_chi2"] for x in rows if x["parameter"] == "c10_cornea"]
     print("\ncoverage %s: %d seeds; chi2 per dof %.3f mean (%.3f to %.3f)"
           % (a.label, n, np.mean(chi), min(chi), max(chi)))
-    print("| parameter | truth | held | share [95 %% CP] | widened by sqrt(chi2/dof) "
+    print("| parameter | truth | held | share [95 % CP] | widened by sqrt(chi2/dof) "
           "| mean error [SE] | SD of error [SE] |")
     print("|---|---|---|---|---|---|---|")
     summary = {"label": a.label, "seeds": n, "truth_set": a.truth_set, "fit_set": a.fit_set,

@@ -267,6 +267,53 @@ void Newton::factorise()
     _anderson->reset();
 }
 
+bool Newton::enlarge_workspace(bool forced)
+{
+  PC pc;
+  KSPGetPC(_ksp, &pc);
+  Mat F = nullptr;
+  MatSolverType type = nullptr;
+  PetscBool factor = PETSC_FALSE;
+  PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, "");
+  if (factor)
+  {
+    PCFactorGetMatSolverType(pc, &type);
+    PCFactorGetMatrix(pc, &F);
+  }
+  if (!F || !type || std::string(type) != MATSOLVERMUMPS)
+    return false;
+  // INFOG is global: every rank takes the same branch.
+  PetscInt infog1 = 0, icntl14 = 0;
+  MatMumpsGetInfog(F, 1, &infog1);
+  MatMumpsGetIcntl(F, 14, &icntl14);
+  // -8, -9, -11, -12, -14, -15: a workspace (integer or real, for the
+  // factors or the solution) smaller than the analysis estimated, as when
+  // pivoting delays more pivots than planned (on several ranks that
+  // depends on round-off in the assembly's order).
+  const bool short_of_space = infog1 == -8 || infog1 == -9 || infog1 == -11 || infog1 == -12
+                              || infog1 == -14 || infog1 == -15;
+  if (!short_of_space && !forced)
+    return false;
+  const PetscInt more = std::max<PetscInt>(2 * icntl14, 40);
+  if (more > 1280)
+    return false; // 64 times the default: not a matter of workspace
+  const char* prefix = nullptr;
+  KSPGetOptionsPrefix(_ksp, &prefix);
+  PetscOptionsSetValue(nullptr, ("-" + std::string(prefix ? prefix : "") + "mat_mumps_icntl_14").c_str(),
+                       std::to_string(more).c_str());
+  int rank = 0;
+  MPI_Comm_rank(PetscObjectComm((PetscObject)_ksp), &rank);
+  if (rank == 0)
+    std::cout << io::format("  linear solver: MUMPS ran short of workspace (%s); its allowance "
+                            "ICNTL(14) raised from %d to %d %%, the matrix factorised anew",
+                            forced ? "a test's retry"
+                                   : io::format("INFOG(1) = %d", int(infog1)).c_str(),
+                            int(icntl14), int(more))
+              << std::endl;
+  PCReset(pc);
+  return true;
+}
+
 KSPConvergedReason Newton::linear_solve(Vec rhs, Vec sol, const NewtonSettings& settings)
 {
   auto once = [&](PetscInt& its)
@@ -284,6 +331,19 @@ KSPConvergedReason Newton::linear_solve(Vec rhs, Vec sol, const NewtonSettings& 
   const bool krylov = settings.jacobian == Jacobian::krylov;
   PetscInt its = 0;
   KSPConvergedReason reason = once(its);
+  // MUMPS short of workspace: more of it, the same matrix again. A test
+  // forces such retries on good factorisations (NCT_TEST_MUMPS_RETRY=n).
+  static int test_retries = []
+  {
+    const char* n = std::getenv("NCT_TEST_MUMPS_RETRY");
+    return n ? std::atoi(n) : 0;
+  }();
+  while (_fresh && (reason == KSP_DIVERGED_PC_FAILED || test_retries > 0)
+         && enlarge_workspace(reason != KSP_DIVERGED_PC_FAILED && test_retries-- > 0))
+  {
+    factorise();
+    reason = once(its);
+  }
   if (krylov && reason < 0 && !_fresh)
   {
     factorise();

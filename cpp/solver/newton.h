@@ -163,6 +163,11 @@ private:
 
   /// A factorisation of the current A.
   void factorise();
+  /// After a failed factorisation: if MUMPS ran short of workspace (or
+  /// `forced`, a test's), double its workspace allowance (ICNTL(14)) and
+  /// drop the factor, so that the next factorise() starts anew. True when
+  /// it did.
+  bool enlarge_workspace(bool forced);
   /// sol = A^-1 rhs, counted and timed; under Jacobian::krylov a failed
   /// solve on an old factorisation refactorises and retries.
   KSPConvergedReason linear_solve(Vec rhs, Vec sol, const NewtonSettings& settings);
