@@ -110,6 +110,23 @@ std::vector<std::string> columns(const nlohmann::ordered_json& rows)
   return out;
 }
 
+/// The rows as CSV: a header of every column, a line per row.
+std::string to_csv(const nlohmann::ordered_json& rows)
+{
+  std::ostringstream csv;
+  const auto cols = columns(rows);
+  for (std::size_t c = 0; c < cols.size(); ++c)
+    csv << (c ? "," : "") << cols[c];
+  csv << "\n";
+  for (auto& r : rows)
+  {
+    for (std::size_t c = 0; c < cols.size(); ++c)
+      csv << (c ? "," : "") << (r.contains(cols[c]) ? cell(r[cols[c]]) : "");
+    csv << "\n";
+  }
+  return csv.str();
+}
+
 /// Every patient's scene at the start must pass nct check (its eye's
 /// geometry with its thickness, radius...) before anything runs: a
 /// scene::Error naming each row that does not.
@@ -263,18 +280,7 @@ int run_cohort(const Fit& fit, const Options& o)
       if (rows.back().contains(label + "_inside"))
         ++with_truth, inside += rows.back()[label + "_inside"].get<bool>();
   }
-  std::ostringstream csv;
-  const auto cols = columns(rows);
-  for (std::size_t c = 0; c < cols.size(); ++c)
-    csv << (c ? "," : "") << cols[c];
-  csv << "\n";
-  for (auto& r : rows)
-  {
-    for (std::size_t c = 0; c < cols.size(); ++c)
-      csv << (c ? "," : "") << (r.contains(cols[c]) ? cell(r[cols[c]]) : "");
-    csv << "\n";
-  }
-  io::write_atomic(o.out / "cohort.csv", csv.str());
+  io::write_atomic(o.out / "cohort.csv", to_csv(rows));
   const double wall
       = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::ordered_json out = {{"fit", fs::absolute(fit.file).string()},
