@@ -5,7 +5,11 @@ factorises the same matrix again instead of failing the step. MUMPS cannot
 be made to fall short at will, so the test forces two such retries on good
 factorisations (NCT_TEST_MUMPS_RETRY=2) of a short puff on 2 ranks: each
 is said (20 -> 40 -> 80 %), costs one factorisation more, and the run ends
-as the one without (every number to 1e-8).
+as the one without: every number to 1e-8 relative or, for the values that
+pass through zero (the whole eye's motion, 5e-4 mm), 1e-9 absolute (mm,
+mmHg, ms), the footprint of the Newton tolerance, as ranks_agree_puff;
+two runs on 2 ranks differ at round-off since the assembly's
+contributions arrive in a varying order.
 
 workspace_retry.py NCT COMPARE_SUMMARIES SCENE OUT
 """
@@ -37,5 +41,5 @@ assert len(lines) == 2 and "from 20 to 40 %" in lines[0] and "from 40 to 80 %" i
 assert retried["factorisations"] == plain["factorisations"] + 2, (retried["factorisations"],
                                                                     plain["factorisations"])
 subprocess.run([compare, os.path.join(out, "retried", "summary.json"),
-                os.path.join(out, "plain", "summary.json"), "1e-8"], check=True)
+                os.path.join(out, "plain", "summary.json"), "1e-8", "1e-9"], check=True)
 print("workspace retry: OK")
