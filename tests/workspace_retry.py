@@ -9,12 +9,17 @@ as the one without: every number to 1e-8 relative or, for the values that
 pass through zero (the whole eye's motion, 5e-4 mm), 1e-9 absolute (mm,
 mmHg, ms), the footprint of the Newton tolerance, as ranks_agree_puff;
 two runs on 2 ranks differ at round-off since the assembly's
-contributions arrive in a varying order.
+contributions arrive in a varying order. MUMPS does fall short on its own
+now and then on this very run (INFOG(1) = -9 at the first factorisation,
+seen in CI and here): such a real retry is said too, doubles the same
+allowance, and counts among the factorisations; the test allows for it
+in either run and says when it met one.
 
 workspace_retry.py NCT COMPARE_SUMMARIES SCENE OUT
 """
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -34,12 +39,28 @@ def run(folder, env):
     return p.stdout, json.load(open(os.path.join(folder, "summary.json")))
 
 
+def retries(text):
+    """The workspace lines' (from, to) allowances [%], and how many were forced."""
+    lines = [l for l in text.splitlines() if "MUMPS ran short of workspace" in l]
+    steps = [tuple(int(v) for v in re.search(r"from (\d+) to (\d+) %", l).groups())
+             for l in lines]
+    return steps, sum("(a test's retry)" in l for l in lines), len(lines) - sum(
+        "(a test's retry)" in l for l in lines)
+
+
 text, retried = run(os.path.join(out, "retried"), {"NCT_TEST_MUMPS_RETRY": "2"})
-_, plain = run(os.path.join(out, "plain"), {})
-lines = [l for l in text.splitlines() if "MUMPS ran short of workspace" in l]
-assert len(lines) == 2 and "from 20 to 40 %" in lines[0] and "from 40 to 80 %" in lines[1], lines
-assert retried["factorisations"] == plain["factorisations"] + 2, (retried["factorisations"],
-                                                                    plain["factorisations"])
+plain_text, plain = run(os.path.join(out, "plain"), {})
+steps, forced, real = retries(text)
+plain_steps, _, plain_real = retries(plain_text)
+assert forced == 2, f"{forced} forced retries said, expected 2"
+expected = [(20 * 2**i, 40 * 2**i) for i in range(len(steps))]
+assert steps == expected, f"allowances {steps}, expected each doubled from 20 %: {expected}"
+assert plain_steps == expected[:len(plain_steps)], plain_steps
+assert retried["factorisations"] - len(steps) == plain["factorisations"] - len(plain_steps), (
+    retried["factorisations"], len(steps), plain["factorisations"], len(plain_steps))
+if real or plain_real:
+    print(f"MUMPS fell short on its own too: {real} time(s) in the forced run, {plain_real} in the "
+          "plain one; each retried as the forced ones")
 subprocess.run([compare, os.path.join(out, "retried", "summary.json"),
                 os.path.join(out, "plain", "summary.json"), "1e-8", "1e-9"], check=True)
 print("workspace retry: OK")
