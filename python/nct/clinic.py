@@ -1,0 +1,75 @@
+"""A run's Corvis parameters against the clinical norms of normal eyes.
+
+Sources (docs/physics.md section 9): 1,304 normal eyes, Corvis ST
+(PMC7001013; IOP 16.8 +- 2.9 mmHg); the whole-eye movement's time: 68
+healthy eyes (doi:10.21203/rs.3.rs-9226844/v1). Times are on the device's
+clock, whose zero lies an unknown time before a run's pulse onset; the
+intervals' SDs are taken from the two times' SDs as if independent (an
+upper bound).
+
+    rows = z_scores(summary)      # (name, value, unit, (mean, SD) or None, z or None)
+    print(markdown(summary))
+"""
+import math
+
+A1, HC, A2 = (7.36, 0.39), (16.84, 0.64), (20.13, 0.48)
+# Normal eyes' mean times [ms] (device clock).
+NORMAL_TIMES = {"A1": A1[0], "HC": HC[0], "A2": A2[0]}
+
+
+def interval(a, b):
+    """The norm of the time from a to b: (mean, SD) as if independent."""
+    return (b[0] - a[0], math.hypot(a[1], b[1]))
+
+
+# (key, name, unit, clinical (mean, SD) or None, scale of the run's value)
+ROWS = [
+    ("deformation_amplitude_mm", "deformation amplitude", "mm", (1.05, 0.10), 1),
+    ("deflection_amplitude_mm", "deflection amplitude", "mm", None, 1),
+    ("a1_time_ms", "A1 time (device clock)", "ms", A1, 1),
+    ("hc_time_ms", "HC time (device clock)", "ms", HC, 1),
+    ("a2_time_ms", "A2 time (device clock)", "ms", A2, 1),
+    ("a1_hc_interval_ms", "A1 to HC", "ms", interval(A1, HC), 1),
+    ("a1_a2_interval_ms", "A1 to A2", "ms", interval(A1, A2), 1),
+    ("a1_length_mm", "A1 length", "mm", (1.82, 0.22), 1),
+    ("a2_length_mm", "A2 length", "mm", (1.34, 0.55), 1),
+    # The clinic signs velocities + inwards; ours + outwards.
+    ("a1_velocity_m_s", "A1 velocity (+ inwards)", "m/s", (0.12, 0.04), -1),
+    ("a2_velocity_m_s", "A2 velocity (+ inwards)", "m/s", (-0.67, 0.17), -1),
+    ("peak_distance_mm", "peak distance", "mm", (4.60, 1.01), 1),
+    ("hc_radius_mm", "HC radius", "mm", (7.35, 1.39), 1),
+    ("whole_eye_movement_max_mm", "whole-eye movement, max", "mm", None, 1),
+    ("whole_eye_movement_time_ms", "whole-eye movement, time (device clock)", "ms",
+     (21.07, 0.51), 1),
+    ("da_ratio_1mm", "DA ratio 1 mm", "", None, 1),
+    ("da_ratio_2mm", "DA ratio 2 mm", "", None, 1),
+    ("max_inverse_radius_per_mm", "max inverse concave radius", "1/mm", None, 1),
+    ("integrated_inverse_radius_ms_per_mm", "integrated inverse radius", "ms/mm", None, 1),
+    ("a1_deflection_mm", "deflection amplitude at A1", "mm", None, 1),
+    ("sp_a1_mmHg_per_mm", "SP-A1", "mmHg/mm", None, 1),
+    ("iop_max_mmHg", "IOP, max under the puff", "mmHg", None, 1),
+]
+
+
+def z_scores(summary):
+    """Per parameter the run has: (name, value on the clinic's sign, unit,
+    the norm (mean, SD) or None, z = (value - mean) / SD or None)."""
+    rows = []
+    for key, name, unit, norm, scale in ROWS:
+        if key in summary:
+            value = scale * summary[key]
+            z = (value - norm[0]) / norm[1] if norm else None
+            rows.append((name, value, unit, norm, z))
+    return rows
+
+
+def markdown(summary):
+    """The table: parameter, run, normal eyes (mean +- SD), z."""
+    lines = ["| parameter | run | normal eyes (mean +- SD) | z |", "|---|---|---|---|"]
+    for name, value, unit, norm, z in z_scores(summary):
+        u = f" {unit}" if unit else ""
+        if norm:
+            lines.append(f"| {name} | {value:.4g}{u} | {norm[0]:.4g} +- {norm[1]:.2g}{u} | {z:+.1f} |")
+        else:
+            lines.append(f"| {name} | {value:.4g}{u} | no verified norm | |")
+    return "\n".join(lines)

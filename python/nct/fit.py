@@ -1,0 +1,185 @@
+"""Plots of an nct fit: the readings against the start and the fit, the
+convergence, the correlations.
+
+    plot(folder, out)     # the PNGs into out (default: the fit's folder)
+
+- fit-curves.png: per curve observation, the measured points with their
+  SDs, the best run's whole curve (the fit) and run-0001's (the start,
+  dashed);
+- fit-profiles.png: per profile observation, the measured points per time
+  with their SDs, the model's values at them (crosses) and the best run's
+  profile at the nearest frame (a line; with reference "rest", the default,
+  the displacement from frame 0 at the same x), one colour per time;
+- fit-convergence.png: the cost and each parameter per iteration, refused
+  steps hollow, the parameters' 95 % intervals shaded;
+- fit-correlation.png: the parameters' correlation matrix.
+A figure whose inputs are absent is skipped with a note.
+"""
+import pathlib
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .folders import Fit  # noqa: E402
+
+
+def _save(fig, path):
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    print("wrote", path)
+
+
+def _start_run(fit):
+    """runs/run-0001 (the start point), with a note if its sets differ from the starts."""
+    run = fit.run("run-0001")
+    if not run.has("frames.csv"):
+        return print("no runs/run-0001/frames.csv: no start curve")
+    sets = dict(s.split("=", 1) for s in run.sets)
+    for p in fit.result["parameters"]:
+        for k in p["keys"]:
+            if k not in sets or not np.isclose(float(sets[k]), p["start"], rtol=1e-9):
+                print("note: run-0001 sets %s=%s, not the start %g" % (k, sets.get(k), p["start"]))
+    return run
+
+
+def _curves(result, obs, best, start, out):
+    todo = [o for o in result["observations"] if o["kind"] == "curve"]
+    if not todo:
+        return print("no curve observation: no fit-curves.png")
+    fig, axes = plt.subplots(len(todo), 1, figsize=(8, 3.5 * len(todo)), squeeze=False)
+    for ax, o in zip(axes[:, 0], todo):
+        m = obs.get(o["label"])
+        if m is not None:
+            ax.errorbar(m["t_ms"], m["measured"], yerr=m["sd"], fmt="o", ms=3, color="k",
+                        label="measured")
+        for run, style, label in ((start, dict(ls="--", color="0.5"), "start"),
+                                  (best, dict(color="C3"), "fit")):
+            if run:
+                ax.plot(run.frames["t_ms"], run.frames[o["quantity"]], label=label, **style)
+        ax.set(xlabel="t [ms]", ylabel=o["quantity"],
+               title="%s: weighted RMS residual %.3g" % (o["label"], o["rms_weighted_residual"]))
+        ax.legend()
+    _save(fig, out / "fit-curves.png")
+
+
+def _profiles(result, obs, best, out):
+    todo = [o for o in result["observations"] if o["kind"] == "profile"]
+    if not todo:
+        return print("no profile observation: no fit-profiles.png")
+    fig, axes = plt.subplots(len(todo), 1, figsize=(8, 4 * len(todo)), squeeze=False)
+    for ax, o in zip(axes[:, 0], todo):
+        mine = obs.get(o["label"])
+        rest = o.get("reference", "rest") == "rest"
+        model = best.profiles if best else None
+        times = sorted(set(mine["t_ms"].tolist())) if mine is not None else []
+        for i, t in enumerate(times):
+            pts = mine.where(mine["t_ms"] == t)
+            order = np.argsort(pts["x_mm"], kind="stable")
+            x, c = pts["x_mm"][order], "C%d" % i
+            ax.errorbar(x, pts["measured"][order], yerr=pts["sd"][order], fmt="o", ms=3,
+                        color=c, label="t = %.2f ms" % t)
+            ax.plot(x, pts["model"][order], "x", color=c)
+            if model:  # as nct: y(x) at the frame minus y(x) at frame 0, both interpolated
+                fx, fy = model.curve(model.nearest(t), o["quantity"])
+                x0, y0 = model.curve(0, o["quantity"])
+                xs = np.linspace(max(fx[0], x0[0]), min(fx[-1], x0[-1]), 200) if rest else fx
+                ys = np.interp(xs, fx, fy) - np.interp(xs, x0, y0) if rest else fy
+                ax.plot(xs, ys, color=c, lw=1)
+        ax.set(xlabel="x [mm]",
+               ylabel="axial displacement [mm]" if rest else "%s y [mm]" % o["quantity"],
+               title="%s: weighted RMS residual %.3g\n(points measured, x the model, lines "
+               "the fit's nearest frame)" % (o["label"], o["rms_weighted_residual"]))
+        ax.legend(fontsize=8)
+    _save(fig, out / "fit-profiles.png")
+
+
+def _convergence(fit, out):
+    rows = fit.iterations if fit.has("iterations.csv") else None
+    if rows is None or not len(rows):
+        return print("no iterations.csv (or no rows in it): no fit-convergence.png")
+    result = fit.result
+    pars = result["parameters"]
+    it = rows["iteration"]
+    ok = rows["accepted"] == 1
+    fig, axes = plt.subplots(1 + len(pars), 1, figsize=(7, 1.2 + 2.2 * (1 + len(pars))),
+                             sharex=True, squeeze=False)
+    axes = axes[:, 0]
+    series = [("cost", rows["cost"], None)] + [(p["label"], rows[p["label"]], p) for p in pars]
+    for ax, (name, v, p) in zip(axes, series):
+        ax.plot(it[ok], v[ok], "-o", color="C0", label="taken")
+        ax.plot(it[~ok], v[~ok], "o", mfc="none", color="C3", label="refused")
+        ax.set_ylabel(name)
+        if p is None or p.get("log"):
+            ax.set_yscale("log")
+            # over more than a decade, only 1, 2 and 5 times a power of 10 labelled
+            one25 = lambda y: np.isclose(y / 10 ** np.floor(np.log10(y)), [1, 2, 5]).any()  # noqa
+            f = matplotlib.ticker.FuncFormatter(lambda y, _, wide=v.max() > 10 * v.min():
+                                                "%g" % y if not wide or one25(y) else "")
+            ax.yaxis.set_major_formatter(f)
+            ax.yaxis.set_minor_formatter(f)
+        ci = p and p.get("ci95") and None not in p["ci95"]
+        if ci:
+            ax.axhspan(*p["ci95"], color="C1", alpha=0.2)
+        ax.set_title("%s = %.4g" % (name, v[-1]) + ("" if p is None or p.get("se") is None
+                     else " (SE %.2g" % p["se"] + ("; shaded: 95 % interval)" if ci else ")")),
+                     fontsize=9, loc="left")
+        if p and p.get("at_bound"):
+            ax.set_title("at a bound", fontsize=8, loc="right", color="C3")
+    axes[0].legend(fontsize=8)
+    axes[-1].set_xlabel("iteration")
+    axes[-1].xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))
+    fig.suptitle("%s after %s iterations, %s forward runs; chi2 %.4g for %s dof" % (
+        result.get("status"), result.get("iterations", len(rows) - 1), result.get("forward_runs"),
+        result.get("chi2", np.nan), result.get("dof")))
+    _save(fig, out / "fit-convergence.png")
+
+
+def _correlation(result, out):
+    labels = [p["label"] for p in result["parameters"]]
+    c = np.array([[np.nan if v is None else v for v in row]
+                  for row in result.get("correlation") or []], dtype=float).reshape(-1, len(labels))
+    n = len(labels)
+    fig, ax = plt.subplots(figsize=(2.4 + 1.1 * n, 1.6 + 1.1 * n))
+    if np.isnan(c).all():
+        ax.text(0.5, 0.5, "not identifiable:\nno covariance", ha="center", va="center",
+                fontsize=14)
+        ax.axis("off")
+    else:
+        im = ax.imshow(c, vmin=-1, vmax=1, cmap="RdBu_r")
+        for i in range(n):
+            for j in range(n):
+                ax.text(j, i, "-" if np.isnan(c[i, j]) else "%.3f" % c[i, j], ha="center",
+                        va="center", color="w" if abs(c[i, j]) > 0.6 else "k")
+        ax.set_xticks(range(n), labels, rotation=30, ha="right")
+        ax.set_yticks(range(n), labels)
+        fig.colorbar(im, ax=ax, shrink=0.8)
+    ax.set_title("correlation of the fitted parameters")
+    _save(fig, out / "fit-correlation.png")
+
+
+def plot(folder, out=None):
+    """The four figures of a fit folder into out (default: the folder)."""
+    fit = Fit(folder)
+    out = pathlib.Path(out or folder)
+    out.mkdir(parents=True, exist_ok=True)
+    obs = {}
+    if fit.has("observations.csv"):
+        table = fit.observations
+        obs = {label: table.where(table["observation"] == label)
+               for label in dict.fromkeys(table["observation"])}
+    else:
+        print("no observations.csv: no measured points")
+    best = fit.best_run
+    if not best or not best.has("frames.csv") or not best.has("profiles.csv"):
+        print("no best run's frames.csv and profiles.csv (%s): no fitted curves"
+              % (best.folder if best else "-"))
+        best = None
+    _curves(fit.result, obs, best, _start_run(fit), out)
+    _profiles(fit.result, obs, best, out)
+    _convergence(fit, out)
+    _correlation(fit.result, out)
