@@ -23,41 +23,24 @@ and across each definition's plausible range, and prints Markdown tables.
   normal eyes' mean is printed (an offset of the clock moves all three
   alike; the intervals do not depend on it).
 
-Usage: scripts/definition-sensitivity.py RUN [--check]
+Usage: cases/clinic/definition-sensitivity.py RUN [--check]
 (--check: exit 1 unless every recomputed reading agrees with summary.json
 to 1e-6 mm or ms, relative 1e-5.)
 """
-import csv
-import json
-import os
+import pathlib
 import sys
-from collections import defaultdict
 
 import numpy as np
 
-# Normal eyes, Corvis ST (PMC7001013): mean time [ms].
-NORMAL_TIMES = {"A1": 7.36, "HC": 16.84, "A2": 20.13}
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "python"))
+from nct.clinic import NORMAL_TIMES  # noqa: E402
+from nct.folders import Run  # noqa: E402
 
 
 def read_profiles(run):
-    frames = defaultdict(lambda: ([], []))
-    times = {}
-    with open(os.path.join(run, "profiles.csv")) as f:
-        for row in csv.DictReader(f):
-            if row["surface"] != "anterior":
-                continue
-            k = int(row["frame"])
-            times[k] = float(row["t_ms"])
-            frames[k][0].append(float(row["x_mm"]))
-            frames[k][1].append(float(row["y_mm"]))
-    keys = sorted(frames)
-    t = np.array([times[k] for k in keys])
-    profiles = []
-    for k in keys:
-        x, y = np.array(frames[k][0]), np.array(frames[k][1])
-        order = np.argsort(x)
-        profiles.append((x[order], y[order]))
-    return t, profiles
+    """The frames' times and anterior profiles (x, y), sorted by x."""
+    p = run.profiles
+    return p.t_ms, [p.curve(k, "anterior") for k in range(len(p))]
 
 
 def height(p, x):
@@ -109,8 +92,8 @@ def crossing(t, f, upward, before=None, after=None):
 
 def main():
     run = sys.argv[1]
-    summary = json.load(open(os.path.join(run, "summary.json")))
-    t, profiles = read_profiles(run)
+    summary = Run(run).summary
+    t, profiles = read_profiles(Run(run))
     rest = profiles[0]
     apex = np.array([height(p, 0.0) - height(rest, 0.0) for p in profiles])
     hc_i = int(np.argmin(apex))

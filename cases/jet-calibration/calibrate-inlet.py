@@ -10,13 +10,14 @@ time, and the inlet speed that would bring the computed peak onto the
 measured one (the quasi-steady jet's stagnation pressure goes as the
 inlet speed squared).
 
-Usage: scripts/calibrate-inlet.py RUN
+Usage: cases/jet-calibration/calibrate-inlet.py RUN
 """
-import csv
 import math
-import os
+import pathlib
 import sys
-import tomllib
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "python"))
+from nct.folders import Run  # noqa: E402
 
 
 def shape(t, rise, hold, fall):
@@ -46,18 +47,13 @@ def edges(t, p):
     return top, 0.8 * top / (up[1] - up[0]), -0.8 * top / (down[1] - down[0])
 
 
-def main(run):
-    with open(os.path.join(run, "scene.toml"), "rb") as f:
-        scene = tomllib.load(f)
-    puff, inlet = scene["puff"], scene["inlet"]
+def main(folder):
+    run = Run(folder)
+    puff, inlet = run.scene["puff"], run.scene["inlet"]
     peak = puff["peak"]
     rise, fall = peak / puff["rise_rate"], peak / puff["fall_rate"]
     hold = puff["pulse_duration"] - rise - fall
-    t, p = [], []
-    with open(os.path.join(run, "steps.csv")) as f:
-        for row in csv.DictReader(f):
-            t.append(float(row["t_ms"]))
-            p.append(float(row["apex_pressure_mmHg"]))
+    t, p = run.steps["t_ms"].tolist(), run.steps["apex_pressure_mmHg"].tolist()
     target = [peak * shape(x, rise, hold, fall) for x in t]
     diff = [a - b for a, b in zip(p, target)]
     computed, measured = edges(t, p), edges(t, target)

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The radial profile of a CFD run's corneal pressure at its peak.
 
 Reads a table t_ms,r_mm,p_mmHg (corneal_pressure.csv of a rigid-eye or
@@ -7,18 +7,17 @@ which the pressure on the axis (r = 0) is largest, and writes that
 instant's r_mm,p_mmHg: what puff.load = "pulse" reads as puff.profile
 (normalised by its value on the axis).
 
-    scripts/puff-profile.py TABLE.csv PROFILE.csv
+    cases/jet-calibration/puff-profile.py TABLE.csv PROFILE.csv
 """
-import csv
+import pathlib
 import sys
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "python"))
+from nct.puff import pressure_table  # noqa: E402
 
 
 def main(source, target):
-    rows = {}
-    with open(source) as f:
-        for row in csv.DictReader(f):
-            rows.setdefault(float(row["t_ms"]), []).append(
-                (float(row["r_mm"]), float(row["p_mmHg"])))
+    rows = pressure_table(source)
     peak = max(rows, key=lambda t: min(rows[t])[1] if min(rows[t])[0] == 0 else -1e300)
     profile = sorted(rows[peak])
     if profile[0][0] != 0:

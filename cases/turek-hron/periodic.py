@@ -3,7 +3,7 @@
 published values (Turek & Hron 2006, tables 12 and 13; for FSI3 also the
 later Featflow table, "fsi3-featflow": level 4, dt 0.00025 s).
 
-Usage: scripts/turek-hron-periodic.py RUN_DIR [--case fsi3] [--from T_MS]
+Usage: cases/turek-hron/periodic.py RUN_DIR [--case fsi3] [--from T_MS]
        [--depth MM] [--plot OUT.png] [--check]
 
 --depth: the run's thickness [mm] its forces are for (10 for the 3D slab
@@ -20,11 +20,13 @@ amplitude = (max - min) / 2 over the window, the frequency from the mean
 upward crossings (linearly interpolated) averaged over the window.
 """
 import argparse
-import csv
-import json
+import pathlib
 import sys
 
 import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "python"))
+from nct.folders import Run  # noqa: E402
 
 PUBLISHED = {  # mean, amplitude, frequency [Hz]; mm and N/m
     "fsi2": {"u_x": (-14.58, 12.44, 3.8), "u_y": (1.23, 80.6, 2.0),
@@ -48,6 +50,60 @@ def periodic(t, y):
     return mean, amplitude, frequency, len(up) - 1
 
 
+def signals(run, depth):
+    """The tip's displacement (summary.json's steps, probe 0) and the
+    force per unit depth [N/m] on cylinder and flag (forces.csv)."""
+    steps = run.summary["steps"]
+    t = np.array([s["time"] for s in steps])
+    tip = np.array([s["probe_0_displacement_mm"] for s in steps])
+    f = run.forces
+    return {"u_x": (t, tip[:, 0]), "u_y": (t, tip[:, 1]),
+            "drag": (f["t_ms"], f["fx_N"] / depth * 1e3), "lift": (f["t_ms"], f["fy_N"] / depth * 1e3)}
+
+
+def analyse(run, case="fsi3", start=None, depth=10.0):
+    """(the window's start, a Markdown table against the published values,
+    the quantities outside the tolerances)."""
+    data = signals(run if isinstance(run, Run) else Run(run), depth)
+    t = data["u_x"][0]
+    start = start if start is not None else t[0] + 0.6 * (t[-1] - t[0])
+    lines = ["| quantity | mean | amplitude | frequency [Hz] | periods | published mean +- "
+             "amplitude [Hz] | error of mean | error of amplitude | error of frequency |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    failed = []
+    for name, (ts, y) in data.items():
+        w = ts >= start
+        m, amp, f, n = periodic(ts[w], y[w])
+        pm, pa, pf = PUBLISHED[case][name]
+        em = (m - pm) / (pa if name in CENTRED else abs(pm))
+        ea, ef = (amp - pa) / pa, (f - pf) / pf
+        lines.append(f"| {name} | {m:.3f} | {amp:.3f} | {f:.2f} | {n} | {pm} +- {pa} [{pf}] | "
+                     f"{100 * em:+.1f} %{' of the amplitude' if name in CENTRED else ''} | "
+                     f"{100 * ea:+.1f} % | {100 * ef:+.1f} % |")
+        failed += [f"{name} {what}" for what, e, tol in
+                   (("mean", em, 0.05), ("amplitude", ea, 0.05), ("frequency", ef, 0.02))
+                   if not abs(e) <= tol]
+    return start, "\n".join(lines), failed
+
+
+def plot(run, case, start, depth, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(2, 2, figsize=(10, 6), sharex=True)
+    for k, (name, (ts, y)) in enumerate(signals(Run(run), depth).items()):
+        axk = ax[k // 2][k % 2]
+        axk.plot(ts / 1e3, y, lw=0.8)
+        axk.axvline(start / 1e3, color="gray", ls=":")
+        axk.set_ylabel(name + (" [mm]" if name.startswith("u") else " [N/m]"))
+        axk.grid(alpha=0.3)
+    for axk in ax[1]:
+        axk.set_xlabel("t [s]")
+    fig.suptitle(f"Turek-Hron {case.upper()}: the tip A and the force on cylinder + flag")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("run")
@@ -57,47 +113,12 @@ def main():
     p.add_argument("--plot", default=None)
     p.add_argument("--check", action="store_true")
     a = p.parse_args()
-    steps = json.load(open(f"{a.run}/summary.json"))["steps"]
-    t = np.array([s["time"] for s in steps])
-    tip = np.array([s["probe_0_displacement_mm"] for s in steps])
-    rows = list(csv.DictReader(open(f"{a.run}/forces.csv")))
-    tf = np.array([float(r["t_ms"]) for r in rows])
-    fx = np.array([float(r["fx_N"]) for r in rows]) / a.depth * 1e3
-    fy = np.array([float(r["fy_N"]) for r in rows]) / a.depth * 1e3
-    start = a.start if a.start is not None else t[0] + 0.6 * (t[-1] - t[0])
-    signals = {"u_x": (t, tip[:, 0]), "u_y": (t, tip[:, 1]), "drag": (tf, fx), "lift": (tf, fy)}
-    print(f"{a.run}: {a.case.upper()} over t >= {start:.0f} ms (to {t[-1]:.0f} ms)")
-    print("| quantity | mean | amplitude | frequency [Hz] | periods | published mean +- amplitude [Hz] | error of mean | error of amplitude | error of frequency |")
-    print("|---|---|---|---|---|---|---|---|---|")
-    failed = []
-    for name, (ts, y) in signals.items():
-        w = ts >= start
-        m, amp, f, n = periodic(ts[w], y[w])
-        pm, pa, pf = PUBLISHED[a.case][name]
-        em = (m - pm) / (pa if name in CENTRED else abs(pm))
-        ea, ef = (amp - pa) / pa, (f - pf) / pf
-        print(f"| {name} | {m:.3f} | {amp:.3f} | {f:.2f} | {n} | {pm} +- {pa} [{pf}] | "
-              f"{100 * em:+.1f} %{' of the amplitude' if name in CENTRED else ''} | "
-              f"{100 * ea:+.1f} % | {100 * ef:+.1f} % |")
-        failed += [f"{name} {what}" for what, e, tol in
-                   (("mean", em, 0.05), ("amplitude", ea, 0.05), ("frequency", ef, 0.02))
-                   if not abs(e) <= tol]
+    start, table, failed = analyse(a.run, a.case, a.start, a.depth)
+    t = Run(a.run).summary["steps"][-1]["time"]
+    print(f"{a.run}: {a.case.upper()} over t >= {start:.0f} ms (to {t:.0f} ms)")
+    print(table)
     if a.plot:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(2, 2, figsize=(10, 6), sharex=True)
-        for k, (name, (ts, y)) in enumerate(signals.items()):
-            axk = ax[k // 2][k % 2]
-            axk.plot(ts / 1e3, y, lw=0.8)
-            axk.axvline(start / 1e3, color="gray", ls=":")
-            axk.set_ylabel(name + (" [mm]" if name.startswith("u") else " [N/m]"))
-            axk.grid(alpha=0.3)
-        for axk in ax[1]:
-            axk.set_xlabel("t [s]")
-        fig.suptitle(f"Turek-Hron {a.case.upper()}: the tip A and the force on cylinder + flag")
-        fig.tight_layout()
-        fig.savefig(a.plot, dpi=120)
+        plot(a.run, a.case, start, a.depth, a.plot)
     if a.check and failed:
         print("outside the tolerances: " + ", ".join(failed))
         return 1

@@ -5,6 +5,7 @@ paths, the command line, running nct, and the results page.
     run = cases.nct_run("scenes/default.toml", args.out / "l3", ["mesh.layers=3"], ranks=2)
     study = cases.nct_study("cases/factorial/factorial-2x5.toml", args.out / "factorial-2x5")
     results = cases.Results(args.out)   # results.add(text) prints it and keeps it
+    results.add(cases.study_section("cases/ablation-cavity/ablation-cavity.toml", args.out / "s"))
     results.write()                     # DIR/results.md
 
 A run, study or fit whose folder already holds its result is not run
@@ -48,11 +49,16 @@ def arguments(name, doc, ranks=None, parts=None, extra=None):
         p.add_argument("--ranks", type=int, default=ranks, help="MPI ranks per run (default %d)"
                        % ranks)
     if parts:
-        p.add_argument("parts", nargs="*", choices=parts, default=parts, metavar="PART",
+        p.add_argument("parts", nargs="*", metavar="PART",
                        help="what to rerun: %s (default all)" % ", ".join(parts))
     if extra:
         extra(p)
     args = p.parse_args()
+    if parts:
+        unknown = [x for x in args.parts if x not in parts]
+        if unknown:
+            p.error("unknown part %s: one of %s" % (", ".join(unknown), ", ".join(parts)))
+        args.parts = args.parts or parts
     args.out = args.out.resolve()
     args.out.mkdir(parents=True, exist_ok=True)
     return args
@@ -116,3 +122,16 @@ class Results:
     def write(self):
         self.path.write_text("\n\n".join(self.parts) + "\n")
         print("wrote %s" % self.path)
+
+
+def study_section(study_file, out, terms=8):
+    """Run (or resume) a study into out, plot it (out/plots) and return its
+    report as a Markdown section named after the study file."""
+    from . import study  # matplotlib only where a case plots
+
+    name = pathlib.Path(study_file).stem
+    folder = nct_study(study_file, out)
+    if not folder.has("analysis.json"):
+        return "## %s\n\nno analysis.json: see %s.log" % (name, out)
+    study.plot(out)
+    return "## %s\n\n%s\n\nplots: %s" % (name, study.report(out, terms), pathlib.Path(out) / "plots")

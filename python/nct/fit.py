@@ -183,3 +183,31 @@ def plot(folder, out=None):
     _profiles(fit.result, obs, best, out)
     _convergence(fit, out)
     _correlation(fit.result, out)
+
+
+RESULTS_HEAD = ["fit", "parameter", "truth", "fit", "SE", "95 % interval", "correlations",
+                "forward runs, wall; chi2 / dof"]
+
+
+def results_rows(name, result, truths=None):
+    """A fit's answer as rows under RESULTS_HEAD: per parameter its truth
+    (where given), value, SE, 95 % interval; the correlations, forward
+    runs, wall time and status, chi2 / dof."""
+    truths = truths or {}
+    labels = [p["label"] for p in result["parameters"]]
+    correlation = result.get("correlation") or []
+    pairs = ["%s-%s %+.3f" % (labels[i], labels[j], correlation[i][j])
+             for i in range(len(labels)) for j in range(i + 1, len(labels))
+             if correlation and correlation[i][j] is not None]
+    rows = []
+    for k, p in enumerate(result["parameters"]):
+        lo, hi = p.get("ci95") or (None, None)
+        rows.append([name if k == 0 else "", p["label"], "%g" % truths[p["label"]]
+                     if p["label"] in truths else "-", "%.4g" % p["value"],
+                     "%.2g" % p["se"] if p.get("se") is not None else "-",
+                     "%.4g - %.4g" % (lo, hi) if lo is not None else "-",
+                     ", ".join(pairs) if k == 0 else "",
+                     "%s runs, %.0f s, %s; chi2 %.1f / %s dof" % (
+                         result.get("forward_runs"), result.get("wall_s", 0), result.get("status"),
+                         result.get("chi2", float("nan")), result.get("dof")) if k == 0 else ""])
+    return rows

@@ -261,3 +261,13 @@ def report(folder, terms=8):
                 f"{min(walls):.0f} to {max(walls):.0f} s")
     return (rankings(study, terms) + "\n" + f"{converged}; wall time per case "
             f"{min(walls):.0f} to {max(walls):.0f} s (mean {sum(walls) / len(walls):.0f} s)")
+
+
+def cases_table(folder):
+    """cases.csv as Markdown: a row per case, numbers to 4 digits."""
+    cases = Study(folder).cases
+    cell = lambda v: "-" if isinstance(v, float) and not np.isfinite(v) else (  # noqa: E731
+        f"{v:.4g}" if isinstance(v, float) else v)
+    rows = [[cell(r[c]) for c in cases.columns] for r in cases.rows()]
+    return "\n".join(["| " + " | ".join(cases.columns) + " |", "|" + "---|" * len(cases.columns)]
+                     + ["| " + " | ".join(r) + " |" for r in rows])
