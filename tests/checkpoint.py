@@ -22,7 +22,6 @@ HDF5 files is one the XML refers to (a resumed run deletes what it wrote
 after its checkpoint). The comparisons are tests/compare_runs.py's, which
 also compares two runs by hand.
 NCT_TEST_SEED fixes the random step."""
-import json
 import os
 import random
 import re
@@ -33,6 +32,9 @@ import sys
 import h5py
 
 from compare_runs import agree, agree_fields, rows
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nct.folders import read_json  # noqa: E402
 
 nct, compare, out, ranks_first, ranks_resume, scene = sys.argv[1:7]
 sets = [a for kv in sys.argv[7:] for a in ("--set", kv)]
@@ -73,7 +75,7 @@ print(f"uninterrupted: {steps_total} dynamic steps, checkpoints kept {written}")
 # Killed at a random step after the first checkpoint, resumed.
 # Killed after the first checkpoint (a march's boundary: the rest may hold
 # none): its step in the run's numbering less the quasi-static steps.
-recorded = json.load(open(f"{ref}/summary.json"))["steps"]
+recorded = read_json(f"{ref}/summary.json")["steps"]
 quasi_static = len(recorded) - steps_total
 first = int(re.search(r"^checkpoint: step (\d+)", open(f"{ref}/run.log").read(), re.M)[1])
 kill = rng.randrange(first - quasi_static + 1, steps_total)
@@ -82,7 +84,7 @@ text = nct_run(ranks_first, killed, env={"NCT_TEST_KILL_AT_STEP": str(kill)}, ex
 if os.path.exists(f"{killed}/summary.json"):
     print(text)
     sys.exit(f"FAIL: the run to be killed at dynamic step {kill} wrote a summary (status "
-             + json.load(open(f"{killed}/summary.json")).get("status", "?") + ")")
+             + read_json(f"{killed}/summary.json").get("status", "?") + ")")
 print(f"killed at dynamic step {kill} on {ranks_first} rank(s); latest checkpoint: "
       + open(f"{killed}/checkpoint/latest").read().strip())
 text = nct_run(ranks_resume, killed, resume=True)
@@ -155,7 +157,7 @@ if same:
         os.remove(f"{bad}/{xdmf[0]}")
         nct_run(ranks_resume, bad, resume=True)
         times = [float(t) for t in re.findall(r'<Time Value="([^"]+)"', open(f"{bad}/{xdmf[0]}").read())]
-        march = json.load(open(f"{bad}/summary.json"))["resumed"]
+        march = read_json(f"{bad}/summary.json")["resumed"]
         assert times and min(times) > 0, f"{xdmf[0]} did not start anew: {times[:3]}"
         print(f"{xdmf[0]} moved aside: starts anew at t = {min(times)} ms "
               f"({len(times)} steps; resumed from {march['file']})")

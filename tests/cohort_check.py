@@ -1,5 +1,5 @@
-"""nct fit over a cohort: a table of 3 synthetic patients (scripts/
-synthetic-cohort.py on a coarse section under the prescribed load: each
+"""nct fit over a cohort: a table of 3 synthetic patients (the package's
+readings.draw_cohort on a coarse section under the prescribed load: each
 eye its own corneal C10, IOP, central thickness and age, its readings
 with the Corvis ST's noise, its tonometer's IOP as a prior), each fitted
 for its corneal C10 and IOP, 2 patients at once.
@@ -19,7 +19,6 @@ cohort_check.py NCT OUT
 - scripts/plot-cohort.py draws the recovery and the stiffness against IOP
   and age.
 """
-import csv
 import json
 import os
 import pathlib
@@ -28,6 +27,11 @@ import signal
 import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nct import readings  # noqa: E402
+from nct.folders import read_json  # noqa: E402
+from nct.tables import read_csv  # noqa: E402
 
 nct, out = sys.argv[1:3]
 out = pathlib.Path(out)
@@ -39,9 +43,7 @@ SETS = ["puff.load='pulse'", "puff.profile='tables/puff-profile-measured.csv'",
         "dynamics.dt=0.5"]
 scene = root / "scenes" / "puff-faithful-section.toml"
 
-subprocess.run(["/usr/bin/python3", root / "scripts" / "synthetic-cohort.py", out / "data",
-                "--nct", nct, "--scene", scene, "--eyes", "3", "--runs", out / "truths"]
-               + [w for s in SETS for w in ("--set", s)], check=True)
+readings.draw_cohort(out / "data", nct, scene, SETS, eyes=3, runs=out / "truths")
 fit_file = out / "cohort.toml"
 fit_file.write_text(
     '[fit]\nscene = %s\nset = %s\njobs = 2\n\n[cohort]\ntable = "data/patients.csv"\n'
@@ -80,14 +82,14 @@ before = len(runs())
 print(f"interrupted after {before} forward runs")
 text = nct_fit(0)
 
-rows = list(csv.DictReader(open(folder / "cohort.csv")))
-table = {r["patient"]: r for r in csv.DictReader(open(out / "data" / "patients.csv"))}
+rows = read_csv(folder / "cohort.csv", numeric=False).rows()
+table = {r["patient"]: r for r in read_csv(out / "data" / "patients.csv", numeric=False).rows()}
 assert [r["patient"] for r in rows] == ["P01", "P02", "P03"], rows
-summary = json.load(open(folder / "cohort.json"))
+summary = read_json(folder / "cohort.json")
 assert summary["converged"] == 3 and summary["patients_at_once"] == 2
 for r in rows:
     t = table[r["patient"]]
-    fit = json.load(open(folder / "patients" / r["patient"] / "fit.json"))
+    fit = read_json(folder / "patients" / r["patient"] / "fit.json")
     assert fit["patient"] == r["patient"] and fit["status"] == r["status"] == "converged"
     for q in fit["parameters"]:
         label = q["label"]
@@ -99,7 +101,7 @@ for r in rows:
     assert iop["prior"] == {"mean": float(t["prior.iop.mean"]), "sd": float(t["prior.iop.sd"])}
     cct = "geometry.cornea_central_thickness=" + t["geometry.cornea_central_thickness"]
     for run in (folder / "patients" / r["patient"] / "runs").glob("run-*"):
-        assert cct in json.load(open(run / "run.json"))["sets"], run
+        assert cct in read_json(run / "run.json")["sets"], run
     c10, se, truth = float(r["c10_cornea"]), float(r["c10_cornea_se"]), float(r["truth_c10_cornea"])
     print("%s: C10 truth %.4f, fit %.4f +- %.4f (%.1f SE); IOP truth %s, fit %.2f"
           % (r["patient"], truth, c10, se, (c10 - truth) / se, r["truth_iop"], float(r["iop"])))
@@ -118,7 +120,7 @@ lines[2] = ",".join(cells)
 (out / "data" / "patients.csv").write_text("\n".join(lines) + "\n")
 text = nct_fit(0)
 assert "(2 fitted before)" in text and "patient P02" in text and len(runs()) == n_runs, text
-fit = json.load(open(folder / "patients" / "P02" / "fit.json"))
+fit = read_json(folder / "patients" / "P02" / "fit.json")
 assert fit["forward_runs_reused"] == fit["forward_runs"], fit["forward_runs"]
 
 p = subprocess.run(["/usr/bin/python3", root / "scripts" / "plot-cohort.py", folder],

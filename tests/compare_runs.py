@@ -5,8 +5,6 @@ usage: compare_runs.py COMPARE_SUMMARIES RUN_A RUN_B [--exact]
 
 --exact: bitwise (a 1-rank run resumed on 1 rank); else to 1e-8 relative
 or 1e-9 absolute (runs on other rank counts)."""
-import csv
-import json
 import os
 import subprocess
 import sys
@@ -15,6 +13,10 @@ import h5py
 import numpy as np
 from lxml import etree
 from scipy.spatial import cKDTree
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nct.folders import read_summary  # noqa: E402
+from nct.tables import read_csv  # noqa: E402
 
 
 def printed_unit(text):
@@ -25,8 +27,9 @@ def printed_unit(text):
 
 
 def rows(path):
-    with open(path) as f:
-        return list(csv.reader(f))
+    """A CSV's header and rows, each cell as printed."""
+    t = read_csv(path, numeric=False)
+    return [t.columns] + [[str(t[c][i]) for c in t.columns] for i in range(len(t))]
 
 
 def agree(compare, a, b, exact):
@@ -38,7 +41,7 @@ def agree(compare, a, b, exact):
                        stdout=subprocess.PIPE, text=True)
     print(p.stdout.strip())
     assert p.returncode == 0, f"summaries differ: {a} vs {b}"
-    sa, sb = (json.load(open(f"{x}/summary.json")) for x in (a, b))
+    sa, sb = (read_summary(x) for x in (a, b))
     for key in ("newton_iterations", "factorisations", "linear_solves", "step_cuts"):
         if exact:
             assert sa[key] == sb[key], f"{key}: {sa[key]} vs {sb[key]}"

@@ -28,8 +28,6 @@ ranks: the recovery's fit with each forward run on 2 ranks: the values
   become 1e-3 in finite differences and move a weakly determined parameter
   such as the sclera's C10 by about 1 % of its SE.)
 """
-import csv
-import json
 import math
 import os
 import shutil
@@ -37,6 +35,10 @@ import signal
 import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nct.folders import read_json  # noqa: E402
+from nct.tables import read_csv  # noqa: E402
 
 nct, scene, out, mode = sys.argv[1:5]
 reference = sys.argv[5] if len(sys.argv) > 5 else None
@@ -81,7 +83,7 @@ def fit(path, folder, check=0):
     r = subprocess.run([nct, "fit", path, "--out", folder], capture_output=True, text=True)
     print(r.stdout, r.stderr)
     assert r.returncode == check, f"nct fit exited with {r.returncode}, expected {check}"
-    return json.load(open(os.path.join(folder, "fit.json")))
+    return read_json(os.path.join(folder, "fit.json"))
 
 
 def values(result):
@@ -108,11 +110,11 @@ if mode == "recovery":
     c = result["correlation"]
     assert all(math.isclose(c[i][i], 1, rel_tol=1e-12) for i in range(2))
     assert math.isclose(c[0][1], c[1][0], rel_tol=1e-12) and abs(c[0][1]) < 1
-    rows = list(csv.DictReader(open(os.path.join(out, "fit", "observations.csv"))))
+    rows = read_csv(os.path.join(out, "fit", "observations.csv"), numeric=False).rows()
     assert len(rows) == result["residuals"] == 29 + 21
     chi2 = sum(float(r["residual"]) ** 2 for r in rows)
     assert math.isclose(chi2, result["chi2"], rel_tol=1e-9)
-    its = list(csv.DictReader(open(os.path.join(out, "fit", "iterations.csv"))))
+    its = read_csv(os.path.join(out, "fit", "iterations.csv"), numeric=False).rows()
     assert len(its) == result["iterations"] + 1 and float(its[-1]["cost"]) >= result["cost"] * (1 - 1e-12)
     assert os.path.isfile(os.path.join(result["best_run"], "summary.json"))
 elif mode == "correlation":
@@ -142,13 +144,13 @@ elif mode == "fallback":
     note = "c10_cornea: a backward difference (the run at 0.0505025 did not converge)"
     start = next(line for line in r.stdout.splitlines() if line.startswith("iteration  0"))
     assert note in start, f"the start's iteration line does not say: {note}"
-    result = json.load(open(os.path.join(folder, "fit.json")))
+    result = read_json(os.path.join(folder, "fit.json"))
     assert note in result["difference_fallbacks"], result["difference_fallbacks"]
     assert result["status"] == "max_iterations" and result["iterations"] == 2, result["status"]
     assert math.isfinite(values(result)["c10_cornea"]["se"])
 elif mode in ("resume", "ranks"):
     shutil.copytree(os.path.join(reference, "data"), os.path.join(out, "data"))
-    ref = values(json.load(open(os.path.join(reference, "fit", "fit.json"))))
+    ref = values(read_json(os.path.join(reference, "fit", "fit.json")))
     folder = os.path.join(out, "fit")
     if mode == "resume":
         path = write_fit(out, RECOVERY, RECOVERY_DATA)

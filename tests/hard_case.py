@@ -18,9 +18,8 @@ Either way every file written must be complete: summary.json parses with
 no null (nlohmann writes NaN as null), every CSV has rows of finite
 numbers, every XDMF is well-formed XML whose HDF5 datasets exist and hold
 finite values. EXPECT (converged, failed; default either) demands one
-outcome. The outcome goes to OUT/outcome.json for scripts/hard-cases.py.
+outcome. The outcome goes to OUT/outcome.json for cases/hard-cases/run.
 """
-import csv
 import json
 import math
 import os
@@ -32,6 +31,10 @@ import xml.etree.ElementTree as ElementTree
 
 import h5py
 import numpy
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nct.folders import read_summary  # noqa: E402
+from nct.tables import read_csv  # noqa: E402
 
 
 def fail(message):
@@ -54,22 +57,20 @@ def finite_json(value, path="summary"):
 
 
 def check_csv(path):
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    if not rows:
-        fail(f"{path} is empty")
-    width = len(rows[0])
-    for n, row in enumerate(rows[1:], start=2):
-        if len(row) != width:
-            fail(f"{path}:{n}: {len(row)} fields, the header has {width}")
-        for cell in row:
+    """Every row as long as the header, every number finite."""
+    try:
+        table = read_csv(path, numeric=False)
+    except ValueError as e:
+        fail(str(e))
+    for name in table.columns:
+        for n, cell in enumerate(table[name], start=2):
             try:
                 v = float(cell)
             except ValueError:
                 continue  # a text column (e.g. a phase name)
             if not math.isfinite(v):
-                fail(f"{path}:{n}: {cell}")
-    return len(rows) - 1
+                fail(f"{path}:{n}: {name} = {cell}")
+    return len(table)
 
 
 def check_xdmf(path):
@@ -147,8 +148,7 @@ def main():
     summary_path = os.path.join(out, "summary.json")
     if not os.path.exists(summary_path):
         fail(f"{name}: no summary.json")
-    with open(summary_path) as f:
-        summary = json.load(f)
+    summary = read_summary(summary_path)
     finite_json(summary)
     tables = {f: check_csv(os.path.join(out, f)) for f in sorted(os.listdir(out))
               if f.endswith(".csv")}

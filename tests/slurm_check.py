@@ -26,9 +26,7 @@ slurm_check.py NCT MODE OUT [REFERENCE]
 
 Exit code 77 (skipped) when the cluster is not up.
 """
-import csv
 import glob
-import json
 import os
 import re
 import shutil
@@ -36,6 +34,10 @@ import signal
 import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nct.folders import read_json  # noqa: E402
+from nct.tables import read_csv  # noqa: E402
 
 nct, mode, out = sys.argv[1:4]
 reference = sys.argv[4] if len(sys.argv) > 4 else None
@@ -68,7 +70,7 @@ def squeue(array):
 
 
 def submitted(folder):
-    return json.load(open(os.path.join(folder, "slurm", "submitted.json")))
+    return read_json(os.path.join(folder, "slurm", "submitted.json"))
 
 
 def alive(state):
@@ -89,12 +91,12 @@ def wait_for(predicate, what, seconds=300):
 def same_summaries(folder):
     """Every physical response of the study (cases.csv's columns but the
     times and counts) equal in each case's summary."""
-    names = [k for k in next(csv.DictReader(open(os.path.join(reference, "cases.csv"))))
+    names = [k for k in read_csv(os.path.join(reference, "cases.csv")).columns
              if k not in {"case", "status", "wall_s", "newton_iterations", "step_cuts"}]
     worst = 0.0
     for case in sorted(os.listdir(os.path.join(reference, "cases"))):
-        x = json.load(open(os.path.join(reference, "cases", case, "summary.json")))
-        y = json.load(open(os.path.join(folder, "cases", case, "summary.json")))
+        x = read_json(os.path.join(reference, "cases", case, "summary.json"))
+        y = read_json(os.path.join(folder, "cases", case, "summary.json"))
         for k in names:
             if k in x or k in y:
                 u = x[k]
@@ -173,10 +175,10 @@ elif mode == "fit":
     fit_text = fit_text.replace("jobs = 2", 'jobs = 2\nlauncher = "slurm"')
     path = os.path.join(out, "fit.toml")
     open(path, "w").write(fit_text)
-    ref = {p["label"]: p for p in json.load(open(os.path.join(reference, "fit", "fit.json")))["parameters"]}
+    ref = {p["label"]: p for p in read_json(os.path.join(reference, "fit", "fit.json"))["parameters"]}
 
     def same_fit(folder):
-        got = {p["label"]: p for p in json.load(open(os.path.join(folder, "fit.json")))["parameters"]}
+        got = {p["label"]: p for p in read_json(os.path.join(folder, "fit.json"))["parameters"]}
         for label, p in got.items():
             d = abs(p["value"] - ref[label]["value"])
             print("%s: Slurm %.12g, local %.12g" % (label, p["value"], ref[label]["value"]))
@@ -225,8 +227,8 @@ elif mode == "cohort":
     open(path, "w").write(text.replace("jobs = 2", 'jobs = 2\nlauncher = "slurm"'))
     folder = os.path.join(out, "fit")
     r = run([nct, "fit", path, "--out", folder], check=0)
-    local = {row["patient"]: row for row in csv.DictReader(open(os.path.join(reference, "fit", "cohort.csv")))}
-    rows = list(csv.DictReader(open(os.path.join(folder, "cohort.csv"))))
+    local = {row["patient"]: row for row in read_csv(os.path.join(reference, "fit", "cohort.csv"), numeric=False).rows()}
+    rows = read_csv(os.path.join(folder, "cohort.csv"), numeric=False).rows()
     assert sorted(local) == sorted(row["patient"] for row in rows)
     for row in rows:
         log = open(os.path.join(folder, "patients", row["patient"], "fit.log")).read()
@@ -246,8 +248,8 @@ elif mode == "run":
                             "srun --mpi=pmix -n 2 %s run %s --out %s\n" % (nct, scene, slurm))
     job = run(["sbatch", "--parsable", "--wait", "-o", os.path.join(out, "slurm-%j.out"),
                script], check=0).stdout.strip()
-    x = json.load(open(os.path.join(local, "summary.json")))
-    y = json.load(open(os.path.join(slurm, "summary.json")))
+    x = read_json(os.path.join(local, "summary.json"))
+    y = read_json(os.path.join(slurm, "summary.json"))
     assert y["ranks"] == 2, y["ranks"]
     # The same partition and solver; the reductions' order may differ: round-off.
     def numbers(v):

@@ -11,9 +11,7 @@ response, the value of the case's own summary.json, its difference from
 the baseline's and the percent of |baseline| (empty where either value is
 missing or the baseline is 0), recomputed here; analysis.json the same.
 """
-import csv
 import glob
-import json
 import math
 import os
 import shutil
@@ -23,6 +21,10 @@ import time
 
 from study_interrupt import interrupt_after_first_case
 import tomllib
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nct.folders import read_json  # noqa: E402
+from nct.tables import read_csv  # noqa: E402
 
 nct, study, out = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(out, ignore_errors=True)
@@ -50,22 +52,22 @@ for stale in ("effects.csv", "anova.csv", "main_effects.csv", "correlation.csv")
     assert not os.path.exists(os.path.join(out, stale)), f"an ablation wrote {stale}"
 
 # 3. cases.csv: a case per variant, in order.
-rows = list(csv.DictReader(open(os.path.join(out, "cases.csv"))))
+rows = read_csv(os.path.join(out, "cases.csv"), numeric=False).rows()
 assert [row["variant"] for row in rows] == variants, rows
 assert [row["status"] for row in rows] == ["converged"] * n
 cases = sorted(os.listdir(os.path.join(out, "cases")))
 assert cases == [f"case-{i + 1:03d}" for i in range(n)], cases
-summary = [json.load(open(os.path.join(out, "cases", c, "summary.json"))) for c in cases]
+summary = [read_json(os.path.join(out, "cases", c, "summary.json")) for c in cases]
 for c, name in zip(cases, variants):
-    sets = json.load(open(os.path.join(out, "cases", c, "case.json")))["sets"]
+    sets = read_json(os.path.join(out, "cases", c, "case.json"))["sets"]
     own = next(v for v in spec["variant"] if v["name"] == name).get("set", [])
     assert sets == spec["study"].get("set", []) + own, f"{c}: {sets}"
 
 # 4. ablation.csv against the summaries: value, value - baseline and
 # 100 (value - baseline) / |baseline|.
-table = list(csv.DictReader(open(os.path.join(out, "ablation.csv"))))
+table = read_csv(os.path.join(out, "ablation.csv"), numeric=False).rows()
 assert [(t["variant"], t["response"]) for t in table] == [(v, q) for v in variants for q in responses]
-analysis = json.load(open(os.path.join(out, "analysis.json")))
+analysis = read_json(os.path.join(out, "analysis.json"))
 assert analysis["design"] == "ablation" and analysis["baseline"] == variants[0]
 assert [v["name"] for v in analysis["variants"]] == variants
 assert [v["description"] for v in analysis["variants"]] == [v.get("description", "") for v in spec["variant"]]
@@ -112,6 +114,6 @@ start = time.time()
 r = subprocess.run([nct, "study", study, "--out", out], capture_output=True, text=True)
 assert r.returncode == 0 and f"{n} cases ({n} already done)" in r.stdout, r.stdout + r.stderr
 assert time.time() - start < 10
-assert list(csv.DictReader(open(os.path.join(out, "ablation.csv")))) == table
+assert read_csv(os.path.join(out, "ablation.csv"), numeric=False).rows() == table
 print(f"study_ablation: resumed without redoing {len(done)} case(s); {checked} comparisons "
       f"recomputed, {missing} missing values left empty")

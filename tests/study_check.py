@@ -13,7 +13,6 @@ effects and two-way interactions), the error is the full model's
 residual. Then one case is made to fail: the study must say so (exit 3)
 and analyse nothing it cannot.
 """
-import csv
 import itertools
 import json
 import os
@@ -23,6 +22,10 @@ import sys
 
 import numpy as np
 from scipy import stats
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nct.folders import Study, read_json  # noqa: E402
+from nct.tables import read_csv  # noqa: E402
 
 nct, scene, out = sys.argv[1], os.path.abspath(sys.argv[2]), sys.argv[3]
 shutil.rmtree(out, ignore_errors=True)
@@ -78,7 +81,7 @@ def nct_study():
 
 
 def rows(name):
-    return list(csv.DictReader(open(os.path.join(out, name))))
+    return read_csv(os.path.join(out, name), numeric=False).rows()
 
 
 write_cases()
@@ -150,13 +153,13 @@ for m in rows("main_effects.csv"):
 values = np.column_stack([np.where(coded[:, i] > 0, f[2][1], f[2][0]) for i, f in enumerate(factors)]
                          + [y[r] for r in responses])
 want = np.corrcoef(values.T)
-corr = list(csv.reader(open(os.path.join(out, "correlation.csv"))))
-assert corr[0][1:] == labels + responses
-for a, row in enumerate(corr[1:]):
-    for b, x in enumerate(row[1:]):
-        close(float(x), want[a, b], f"r({corr[0][a + 1]}, {corr[0][b + 1]})", 1e-9) if abs(
+names, corr = Study(out).correlation
+assert names == labels + responses
+for a, row in enumerate(corr):
+    for b, x in enumerate(row):
+        close(x, want[a, b], f"r({names[a]}, {names[b]})", 1e-9) if abs(
             want[a, b]) > 1e-12 else None
-        assert abs(want[a, b]) > 1e-12 or abs(float(x)) < 1e-12
+        assert abs(want[a, b]) > 1e-12 or abs(x) < 1e-12
 print(f"study_check: ANOVA, effects, main effects and correlations agree (largest relative "
       f"difference {worst:.1e})")
 
@@ -164,7 +167,7 @@ print(f"study_check: ANOVA, effects, main effects and correlations agree (larges
 write_cases(failed=6)
 code = nct_study()
 assert code == 3, f"a failed case: nct study exited with {code}, expected 3"
-analysis = json.load(open(os.path.join(out, "analysis.json")))
+analysis = read_json(os.path.join(out, "analysis.json"))
 for r in responses:
     assert "case-007" in analysis["responses"][r]["skipped"], analysis["responses"][r]
 status = {row["case"]: row["status"] for row in rows("cases.csv")}

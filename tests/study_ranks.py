@@ -7,13 +7,15 @@ compares every physical response of the case summaries with ONE_RANK_FOLDER's
 (the study_resume test's): 1e-8 relative or 1e-9 absolute (mm, ms, mmHg),
 as the scene tests' rank comparisons.
 """
-import csv
-import json
 import os
 import re
 import shutil
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nct.folders import read_json  # noqa: E402
+from nct.tables import read_csv  # noqa: E402
 
 nct, study, one, out = sys.argv[1:5]
 shutil.rmtree(out, ignore_errors=True)
@@ -31,12 +33,12 @@ ranks = [open(os.path.join(out, "cases", c, "summary.json")).read() for c in sor
 assert all('"ranks": 2' in s for s in ranks), "the cases did not run on 2 ranks"
 
 # Full precision: the summaries, for the responses of cases.csv.
-names = [k for k in next(csv.DictReader(open(os.path.join(one, "cases.csv"))))
+names = [k for k in read_csv(os.path.join(one, "cases.csv")).columns
          if k not in {"case", "status", "wall_s", "newton_iterations", "step_cuts"}]
 worst = 0.0
 for case in sorted(os.listdir(os.path.join(out, "cases"))):
-    x = json.load(open(os.path.join(one, "cases", case, "summary.json")))
-    y = json.load(open(os.path.join(out, "cases", case, "summary.json")))
+    x = read_json(os.path.join(one, "cases", case, "summary.json"))
+    y = read_json(os.path.join(out, "cases", case, "summary.json"))
     for k in names:
         if k not in x and k not in y:  # e.g. no applanation in either
             continue

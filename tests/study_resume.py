@@ -9,9 +9,7 @@ it must run only the rest (the finished summaries untouched) and analyse
 every response; a third run must run nothing; a different study must not
 write into the same folder.
 """
-import csv
 import glob
-import json
 import os
 import shutil
 import subprocess
@@ -19,6 +17,10 @@ import sys
 import time
 
 from study_interrupt import interrupt_after_first_case
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nct.folders import read_json  # noqa: E402
+from nct.tables import read_csv  # noqa: E402
 
 nct, study, out = sys.argv[1], sys.argv[2], sys.argv[3]
 shutil.rmtree(out, ignore_errors=True)
@@ -51,7 +53,7 @@ time.sleep(0.5)
 assert not left_behind(), f"processes left running: {left_behind()}"
 done = {f: os.stat(f).st_mtime_ns for f in glob.glob(os.path.join(out, "cases", "*", "summary.json"))}
 assert 1 <= len(done) < 4, f"{len(done)} cases finished before the interruption"
-status = [row["status"] for row in csv.DictReader(open(os.path.join(out, "cases.csv")))]
+status = [row["status"] for row in read_csv(os.path.join(out, "cases.csv"), numeric=False).rows()]
 assert status.count("converged") == len(done) and status.count("pending") == 4 - len(done), status
 
 # 2. Resume: only the rest runs.
@@ -59,12 +61,12 @@ r = study_run(check=0)
 assert f"4 cases ({len(done)} already done)" in r.stdout
 for f, mtime in done.items():
     assert os.stat(f).st_mtime_ns == mtime, f"{f} was redone"
-rows = list(csv.DictReader(open(os.path.join(out, "cases.csv"))))
+rows = read_csv(os.path.join(out, "cases.csv"), numeric=False).rows()
 assert [row["status"] for row in rows] == ["converged"] * 4
 # Every response the study file may name is in some run's summary (the
 # applanations need not happen: the stiff eye at 18 mmHg does not flatten).
-summaries = [json.load(open(f)) for f in glob.glob(os.path.join(out, "cases", "*", "summary.json"))]
-analysis = json.load(open(os.path.join(out, "analysis.json")))
+summaries = [read_json(f) for f in glob.glob(os.path.join(out, "cases", "*", "summary.json"))]
+analysis = read_json(os.path.join(out, "analysis.json"))
 for name in analysis["responses"]:
     assert any(isinstance(s.get(name), (int, float)) for s in summaries), f"no run gave {name}"
 

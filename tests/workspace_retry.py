@@ -17,12 +17,14 @@ in either run and says when it met one.
 
 workspace_retry.py NCT COMPARE_SUMMARIES SCENE OUT
 """
-import json
 import os
 import re
 import shutil
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+from nct.folders import read_json  # noqa: E402
 
 nct, compare, scene, out = sys.argv[1:5]
 shutil.rmtree(out, ignore_errors=True)
@@ -36,7 +38,7 @@ def run(folder, env):
                        env={**os.environ, **env})
     print(p.stdout)
     assert p.returncode == 0, f"exit {p.returncode}"
-    return p.stdout, json.load(open(os.path.join(folder, "summary.json")))
+    return p.stdout, read_json(os.path.join(folder, "summary.json"))
 
 
 def retries(text):
