@@ -2,7 +2,7 @@
 # The README's second command: build if needed, then run every test (ctest).
 # Extra arguments go to ctest, e.g. scripts/test.sh -L scene or -R bad_input;
 # without any, the tests labelled "slow" (most of the hard-case matrix,
-# scripts/hard-cases.py, and one checkpoint case) are left out:
+# cases/hard-cases, and one checkpoint case) are left out:
 # scripts/test.sh -L hard and -L checkpoint run them.
 set -eu
 cd "$(dirname "$0")/.."

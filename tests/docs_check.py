@@ -1,7 +1,8 @@
-"""The manual stands on its own: every relative link of README.md and
-docs/*.md leads to a file of the repository (and a #section to a heading
-there), every docs/<name>.md the sources name exists, and no file of the
-repository cites one outside it.
+"""The manual stands on its own: every relative link of README.md,
+docs/*.md, the cases' pages (cases/README.md, cases/*/README.md),
+scripts/README.md and python/README.md leads to a file of the repository
+(and a #section to a heading there), every docs/<name>.md the sources
+name exists, and no file of the repository cites one outside it.
 
 usage: docs_check.py SOURCE_DIR"""
 import os
@@ -10,7 +11,10 @@ import subprocess
 import sys
 
 root = sys.argv[1]
-docs = ["README.md"] + sorted("docs/" + f for f in os.listdir(f"{root}/docs") if f.endswith(".md"))
+docs = (["README.md", "cases/README.md", "scripts/README.md", "python/README.md"]
+        + sorted("docs/" + f for f in os.listdir(f"{root}/docs") if f.endswith(".md"))
+        + sorted(f"cases/{c}/README.md" for c in os.listdir(f"{root}/cases")
+                 if os.path.isfile(f"{root}/cases/{c}/README.md")))
 problems = []
 
 

@@ -490,7 +490,7 @@ TEST(Fsi, FoldedAirCellIsInadmissible)
 // flag (per unit depth: the slab is 10 mm deep) against the published
 // values. The tolerances are this coarse mesh's errors with a margin
 // (measured: u_x +0.9 %, u_y +11.5 %, drag +1.2 %, lift -0.7 %; at 2 mm:
-// +0.4, -1.4, +0.25, +0.5 %; docs/turek-hron.md). The interface power
+// +0.4, -1.4, +0.25, +0.5 %; cases/turek-hron). The interface power
 // balances at every step.
 TEST(Fsi, TurekHronFsi1)
 {

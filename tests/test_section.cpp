@@ -546,9 +546,9 @@ TEST(Section, CoupledPuffOnTheEyeSection)
 }
 
 // The shipped converged two-way puff on the section (scenes/puff-fsi-section.toml,
-// level 2 of scripts/section-convergence.py --uniform): its deformation and
+// level 2 of cases/section-convergence/run --refine uniform): its deformation and
 // deflection amplitudes within 1 % of Richardson's estimates from levels 1
-// to 3 of that study (1.0233 and 1.0651 mm, docs/sections.md), the power
+// to 3 of that study (1.0233 and 1.0651 mm, cases/section-convergence), the power
 // balanced at the interface and the humor's volume held.
 TEST(Section, ConvergedCoupledPuff)
 {
