@@ -228,7 +228,7 @@ def rankings(study, terms=8):
     if table is not None:
         anova = {(a["response"], a["source"]): a for a in table.rows()}
     lines = [f"{analysis['design']}, {analysis['cases']} cases; "
-             f"error term: {analysis['error_term']}\n"]
+             f"error term: {analysis.get('error_term', 'none')}\n"]
     for name in study.responses:
         r = analysis["responses"][name]
         values = cases[name][np.isfinite(cases[name])]
@@ -255,19 +255,11 @@ def report(folder, terms=8):
     study = Study(folder)
     cases = study.cases
     walls = cases["wall_s"][np.isfinite(cases["wall_s"])]
-    converged = f"{list(cases['status']).count('converged')} of {len(cases)} converged"
+    status = f"{list(cases['status']).count('converged')} of {len(cases)} converged"
+    if len(walls):
+        status += f"; wall time per case {min(walls):.0f} to {max(walls):.0f} s"
     if study.analysis["design"] == "ablation":
-        return (ablation_table(study) + "\n\n" + f"{converged}; wall time per case "
-                f"{min(walls):.0f} to {max(walls):.0f} s")
-    return (rankings(study, terms) + "\n" + f"{converged}; wall time per case "
-            f"{min(walls):.0f} to {max(walls):.0f} s (mean {sum(walls) / len(walls):.0f} s)")
-
-
-def cases_table(folder):
-    """cases.csv as Markdown: a row per case, numbers to 4 digits."""
-    cases = Study(folder).cases
-    cell = lambda v: "-" if isinstance(v, float) and not np.isfinite(v) else (  # noqa: E731
-        f"{v:.4g}" if isinstance(v, float) else v)
-    rows = [[cell(r[c]) for c in cases.columns] for r in cases.rows()]
-    return "\n".join(["| " + " | ".join(cases.columns) + " |", "|" + "---|" * len(cases.columns)]
-                     + ["| " + " | ".join(r) + " |" for r in rows])
+        return ablation_table(study) + "\n\n" + status
+    if len(walls):
+        status += f" (mean {sum(walls) / len(walls):.0f} s)"
+    return rankings(study, terms) + "\n" + status

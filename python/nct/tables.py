@@ -68,9 +68,12 @@ def read_csv(path, numeric=True):
     for n, row in enumerate(lines[1:], start=2):
         if len(row) != len(header):
             raise ValueError(f"{path}:{n}: {len(row)} fields, the header has {len(header)}")
+    # A name twice in the header (cases.csv's wall_s: a response and the
+    # case's own) is one column, the last, as csv.DictReader reads it.
     cells = {name: [row[i] for row in lines[1:]] for i, name in enumerate(header)}
     convert = _column if numeric else (lambda c: np.array(c, dtype=str))
-    return Table(header, {name: convert(cells[name]) for name in header})
+    names = list(dict.fromkeys(header))
+    return Table(names, {name: convert(cells[name]) for name in names})
 
 
 def write_csv(path, rows, columns=None):

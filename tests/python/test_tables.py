@@ -47,6 +47,12 @@ class ReadCsv(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, r"t.csv:3: 1 fields, the header has 2"):
             read_csv(self.path)
 
+    def test_a_name_twice_is_the_last_column(self):
+        self.write("case,wall_s,wall_s\ncase-001,,10.5\n")  # cases.csv: a response and the wall time
+        t = read_csv(self.path)
+        self.assertEqual(t.columns, ["case", "wall_s"])
+        self.assertEqual(t["wall_s"][0], 10.5)
+
     def test_header_only(self):
         self.write("a,b\n")
         self.assertEqual(len(read_csv(self.path)), 0)
