@@ -20,7 +20,8 @@ def main():
         sys.exit(__doc__)
     folder = Study(sys.argv[1])
     if not folder.has("analysis.json"):
-        sys.exit(f"plot-study: {sys.argv[1]} has no analysis.json: run `nct study` to the end first")
+        sys.exit(f"plot-study: {sys.argv[1]} has no analysis.json: "
+                 "run `nct study` to the end first")
     study.plot(folder.folder)
     print(f"plot-study: {folder.analysis['design']}, {folder.analysis['cases']} cases -> "
           f"{folder.folder / 'plots'}")

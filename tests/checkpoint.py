@@ -33,7 +33,7 @@ import h5py
 
 from compare_runs import agree, agree_fields, rows
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "python"))
 from nct.folders import read_json  # noqa: E402
 
 nct, compare, out, ranks_first, ranks_resume, scene = sys.argv[1:7]

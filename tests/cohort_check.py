@@ -28,7 +28,7 @@ import subprocess
 import sys
 import time
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "python"))
 from nct import readings  # noqa: E402
 from nct.folders import read_json  # noqa: E402
 from nct.tables import read_csv  # noqa: E402

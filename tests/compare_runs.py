@@ -14,7 +14,7 @@ import numpy as np
 from lxml import etree
 from scipy.spatial import cKDTree
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "python"))
 from nct.folders import read_summary  # noqa: E402
 from nct.tables import read_csv  # noqa: E402
 

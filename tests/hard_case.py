@@ -32,7 +32,7 @@ import xml.etree.ElementTree as ElementTree
 import h5py
 import numpy
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "python"))
 from nct.folders import read_summary  # noqa: E402
 from nct.tables import read_csv  # noqa: E402
 

@@ -23,7 +23,7 @@ import shutil
 import subprocess
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "python"))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "python"))
 from nct.folders import read_json  # noqa: E402
 
 nct, compare, scene, out = sys.argv[1:5]

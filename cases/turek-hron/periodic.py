@@ -58,7 +58,8 @@ def signals(run, depth):
     tip = np.array([s["probe_0_displacement_mm"] for s in steps])
     f = run.forces
     return {"u_x": (t, tip[:, 0]), "u_y": (t, tip[:, 1]),
-            "drag": (f["t_ms"], f["fx_N"] / depth * 1e3), "lift": (f["t_ms"], f["fy_N"] / depth * 1e3)}
+            "drag": (f["t_ms"], f["fx_N"] / depth * 1e3),
+            "lift": (f["t_ms"], f["fy_N"] / depth * 1e3)}
 
 
 def analyse(run, case="fsi3", start=None, depth=10.0):

@@ -134,4 +134,5 @@ def study_section(study_file, out, terms=8):
     if not folder.has("analysis.json"):
         return "## %s\n\nno analysis.json: see %s.log" % (name, out)
     study.plot(out)
-    return "## %s\n\n%s\n\nplots: %s" % (name, study.report(out, terms), pathlib.Path(out) / "plots")
+    report = study.report(out, terms)
+    return "## %s\n\n%s\n\nplots: %s" % (name, report, pathlib.Path(out) / "plots")

@@ -69,7 +69,8 @@ def markdown(summary):
     for name, value, unit, norm, z in z_scores(summary):
         u = f" {unit}" if unit else ""
         if norm:
-            lines.append(f"| {name} | {value:.4g}{u} | {norm[0]:.4g} +- {norm[1]:.2g}{u} | {z:+.1f} |")
+            lines.append(f"| {name} | {value:.4g}{u} | {norm[0]:.4g} +- {norm[1]:.2g}{u} "
+                         f"| {z:+.1f} |")
         else:
             lines.append(f"| {name} | {value:.4g}{u} | no verified norm | |")
     return "\n".join(lines)

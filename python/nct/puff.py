@@ -61,7 +61,8 @@ def plot(run):
     if len(iops) > 1:
         ax[1].legend()
     fig.suptitle("%s: deformation %.3f mm, deflection %.3f mm, peak distance %.2f mm, "
-                 "HC %.2f ms" % (os.path.basename(os.path.normpath(run.folder)), s["deformation_amplitude_mm"],
+                 "HC %.2f ms" % (os.path.basename(os.path.normpath(run.folder)),
+                                 s["deformation_amplitude_mm"],
                                  s["deflection_amplitude_mm"], s["peak_distance_mm"],
                                  s["hc_time_ms"]))
     fig.tight_layout()

@@ -244,7 +244,8 @@ def rankings(study, terms=8):
             a = anova.get((name, term))
             share = f"{a['percent']:.1f}" if a else ""
             p = f"{a['p']:.2g}" if a and np.isfinite(a["p"]) else ""
-            lines.append(f"| {i + 1} | {term} | {r['terms'][term]['effect']:+.4g} | {share} | {p} |")
+            effect = r["terms"][term]["effect"]
+            lines.append(f"| {i + 1} | {term} | {effect:+.4g} | {share} | {p} |")
         lines.append("")
     return "\n".join(lines)
 

@@ -31,7 +31,8 @@ def phases(summary):
         accounted = (g("residual_s") + g("jacobian_s") + g("border_assemble_s") + g("factorise_s")
                      + g("solve_s") + g("output_s"))
         other = g("wall_s") - accounted if p["phase"] != "set-up" else 0.0
-        table.append([p["phase"], "%.2f" % g("wall_s"), str(g("steps")), str(g("newton_iterations")),
+        table.append([p["phase"], "%.2f" % g("wall_s"), str(g("steps")),
+                      str(g("newton_iterations")),
                       "%d (%d)" % (g("residuals"), g("line_search_residuals")),
                       "%.2f" % g("residual_s"), str(g("jacobians")), "%.2f" % g("jacobian_s"),
                       str(g("factorisations")), "%.2f" % g("factorise_s"),
