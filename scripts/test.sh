@@ -10,4 +10,5 @@ scripts/build.sh
 . scripts/env.sh
 cd build
 [ $# -gt 0 ] || set -- -LE slow
-ctest --output-on-failure --timeout 1500 "$@"
+# As many tests at once as there are cores (a 2-rank test takes two).
+ctest --output-on-failure --timeout 1500 -j "$(nproc)" "$@"

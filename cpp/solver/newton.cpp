@@ -142,7 +142,7 @@ void set_petsc_options(const std::vector<std::pair<std::string, std::string>>& o
                        Jacobian jacobian)
 {
   // MUMPS with the PORD ordering: the fastest of AMD, AMF, QAMD, PORD and
-  // MUMPS' automatic choice on the eye's shell meshes (scripts/benchmark.sh).
+  // MUMPS' automatic choice on the eye's shell meshes (cases/benchmark-scaling).
   std::map<std::string, std::string> all = {{"ksp_type", "preonly"},
                                             {"pc_type", "lu"},
                                             {"pc_factor_mat_solver_type", "mumps"},
