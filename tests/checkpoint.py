@@ -49,8 +49,12 @@ print(f"seed {seed} (NCT_TEST_SEED reproduces this run)")
 
 
 def nct_run(ranks, folder, *extra, env=None, expect=0, resume=False):
-    cmd = ["mpirun", "-n", str(ranks), "--allow-run-as-root", "--oversubscribe", nct, "run",
-           scene, *sets, *extra, "--resume" if resume else "--out", folder]
+    # A failed rank takes the others down at once (Open MPI waits 2 s by
+    # default); one rank runs without mpirun.
+    launcher = ["mpirun", "-n", str(ranks), "--allow-run-as-root", "--oversubscribe",
+                "--mca", "odls_base_sigkill_timeout", "0"]
+    cmd = (launcher if ranks > 1 else []) + [nct, "run", scene, *sets, *extra,
+                                             "--resume" if resume else "--out", folder]
     p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                        env={**os.environ, **(env or {})})
     ok = p.returncode == expect if expect is not None else p.returncode != 0

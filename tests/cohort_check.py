@@ -1,5 +1,5 @@
 """nct fit over a cohort: a table of 3 synthetic patients (the package's
-readings.draw_cohort on a coarse section under the prescribed load: each
+readings.draw_cohort on the default scene's axisymmetric section: each
 eye its own corneal C10, IOP, central thickness and age, its readings
 with the Corvis ST's noise, its tonometer's IOP as a prior), each fitted
 for its corneal C10 and IOP, 2 patients at once.
@@ -38,10 +38,8 @@ out = pathlib.Path(out)
 root = pathlib.Path(__file__).resolve().parent.parent
 shutil.rmtree(out, ignore_errors=True)
 out.mkdir(parents=True)
-SETS = ["puff.load='pulse'", "puff.profile='tables/puff-profile-measured.csv'",
-        "mesh.size_cornea=0.25", "mesh.size_limbus=0.25", "mesh.size_sclera=0.75",
-        "dynamics.dt=0.5"]
-scene = root / "scenes" / "puff-faithful-section.toml"
+SETS = ['mesh.dimension="axisymmetric"']
+scene = root / "scenes" / "default.toml"
 
 readings.draw_cohort(out / "data", nct, scene, SETS, eyes=3, runs=out / "truths")
 fit_file = out / "cohort.toml"

@@ -466,14 +466,17 @@ TEST(Eye, WholeEyeTranslationKeepsTheCavityVolume)
 // the analytic one, and together with the diaphragm they fill the merged
 // cavity of the eye without internal structures. Closed and pressed,
 // each holds its own volume while both pressures rise (the lens-zonule
-// diaphragm passes part of the push on).
+// diaphragm passes part of the push on). The same scene as an axisymmetric
+// section agrees with the quarter eye: the meshed reference volumes, the
+// inflated apex, each cavity's pressure rise under the press and the
+// pressed apex.
 TEST(Eye, InternalStructuresMakeTwoClosedCavities)
 {
   // The scene's eye, inflated to a moderate IOP without its puff.
-  auto summary = run_scene("scenes/eye-internal.toml", "eye_internal",
-                           {"inflate.iop=6.0", "inflate.steps=2", "cavity.model=\"closed\"",
-                            "press.pressure=20.0", "press.profile=\"gaussian\"",
-                            "press.steps=1", "output.fields=false"});
+  const std::vector<std::string> sets
+      = {"inflate.iop=6.0", "inflate.steps=2", "cavity.model=\"closed\"", "press.pressure=20.0",
+         "press.profile=\"gaussian\"", "press.steps=1", "output.fields=false"};
+  auto summary = run_scene("scenes/eye-internal.toml", "eye_internal", sets);
   ASSERT_EQ(summary["status"], "converged");
   auto g = nct::scene::defaults<nct::eye::Geometry>();
   g.internal_structures = true;
@@ -511,6 +514,40 @@ TEST(Eye, InternalStructuresMakeTwoClosedCavities)
     EXPECT_GT(pressed[p].get<double>(), inflated[p].get<double>() + 0.1);
   }
   EXPECT_LT(pressed["apex_displacement_mm"][1].get<double>(), 0.0); // pushed in
+
+  // The section against the quarter eye.
+  auto section_sets = sets;
+  section_sets.push_back("mesh.dimension=\"axisymmetric\"");
+  const auto section = run_scene("scenes/eye-internal.toml", "eye_internal_section", section_sets);
+  ASSERT_EQ(section["status"], "converged");
+  const auto at = [](const nlohmann::json& s, const char* phase)
+  {
+    nlohmann::json last;
+    for (const auto& step : s["steps"])
+      if (step["phase"] == phase)
+        last = step;
+    return last;
+  };
+  for (const char* c : {"aqueous", "vitreous"})
+  {
+    const std::string V = std::string(c) + "_volume_reference_mm3",
+                      p = std::string(c) + "_pressure_mmHg";
+    const double dV = section[V].get<double>() / summary[V].get<double>() - 1;
+    const double rise_3d = pressed[p].get<double>() - inflated[p].get<double>();
+    const double rise = at(section, "press")[p].get<double>() - at(section, "inflate")[p].get<double>();
+    std::printf("section: %s reference volume %+.2e of the quarter eye's, pressure rise under "
+                "the press %.4f (section) %.4f (3D) mmHg\n",
+                c, dV, rise, rise_3d);
+    EXPECT_LT(std::abs(dV), 1e-3);
+    EXPECT_NEAR(rise / rise_3d, 1.0, 0.03);
+  }
+  for (const char* phase : {"inflate", "press"})
+  {
+    const double a = at(section, phase)["apex_displacement_mm"][1].get<double>();
+    const double b = at(summary, phase)["apex_displacement_mm"][1].get<double>();
+    std::printf("section: %s apex %.5f (section) %.5f (3D) mm\n", phase, a, b);
+    EXPECT_NEAR(a / b, 1.0, 0.02);
+  }
 }
 
 // The eye with its internal structures at the reference data inflates
