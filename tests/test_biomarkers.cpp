@@ -1,9 +1,11 @@
 // Biomarker extraction on synthetic profiles with known answers.
 #include <cmath>
 #include <functional>
+#include <set>
 #include <gtest/gtest.h>
 
 #include "biomarkers/biomarkers.h"
+#include "biomarkers/registry.h"
 #include "biomarkers/record.h"
 
 namespace
@@ -316,4 +318,22 @@ TEST(Biomarkers, FramesBetweenStepsFollowACubicMotion)
   const auto mid = state(t0 + h / 2);
   const double linear = 0.5 * (a.y[2] + b.y[2]);
   EXPECT_GT(std::abs(linear - mid.y[2]), 1e-2);
+}
+
+// The registry: each key once; a cavity's name fills "<cavity>"; a key
+// outside it is refused when a summary is written.
+TEST(Biomarkers, Registry)
+{
+  std::set<std::string> keys;
+  for (const auto& e : nct::biomarkers::registry())
+    EXPECT_TRUE(keys.insert(e.key).second) << e.key << " twice";
+  ASSERT_NE(nct::biomarkers::find("aqueous_pressure_max_mmHg"), nullptr);
+  EXPECT_EQ(nct::biomarkers::find("aqueous_pressure_max_mmHg")->key, "<cavity>_pressure_max_mmHg");
+  EXPECT_EQ(nct::biomarkers::find("lens_pressure_max_mmHg"), nullptr);
+  EXPECT_EQ(nct::biomarkers::find("hc_time_ms")->unit, "ms");
+  EXPECT_FALSE(nct::biomarkers::find("wall_s")->reading);
+  nlohmann::json summary;
+  nct::biomarkers::put(summary, "hc_time_ms", 16.5);
+  EXPECT_EQ(summary["hc_time_ms"], 16.5);
+  EXPECT_THROW(nct::biomarkers::put(summary, "hc_time", 16.5), std::logic_error);
 }

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "cavity/cavity.h"
+#include "biomarkers/registry.h"
 #include "helpers.h"
 #include "run/model.h"
 #include "eye/geometry.h"
@@ -468,7 +469,8 @@ TEST(Section, EyeSectionAgreesWithTheQuarterEye)
 
 // The default scene (the measured pulse on the orbit, zero pressure, the
 // closed humor) on the eye's section: it runs through, keeps the humor's
-// volume, and finds every biomarker in order.
+// volume, finds every biomarker in order and reports every entry of the
+// biomarker registry.
 TEST(Section, DefaultSceneOnTheEyeSection)
 {
   const auto s = run_scene("scenes/default.toml", "default_section",
@@ -489,6 +491,13 @@ TEST(Section, DefaultSceneOnTheEyeSection)
   EXPECT_LT(s["a1_time_ms"].get<double>(), s["hc_time_ms"].get<double>());
   EXPECT_LT(s["hc_time_ms"].get<double>(), s["a2_time_ms"].get<double>());
   EXPECT_GT(s["deformation_amplitude_mm"].get<double>(), 0.5);
+  for (const auto& e : nct::biomarkers::registry())
+  {
+    std::string key = e.key;
+    if (key.rfind("<cavity>", 0) == 0)
+      key.replace(0, 8, "cavity");
+    EXPECT_TRUE(s.contains(key) && s[key].is_number()) << key;
+  }
 }
 
 // The two-way coupled puff on the eye's section (scenes/puff-fsi.toml as

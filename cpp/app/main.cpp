@@ -4,6 +4,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "biomarkers/registry.h"
 #include "fit/fit.h"
 #include "io/checkpoint.h"
 #include "run/run.h"
@@ -102,6 +103,10 @@ int main(int argc, char* argv[])
 
   auto* describe = app.add_subcommand("describe", "print every scene key with its documentation");
   describe->add_flag("--markdown", markdown, "as a Markdown table");
+  bool biomarkers = false;
+  describe->add_flag("--biomarkers", biomarkers,
+                     "the biomarker registry instead: every summary.json value studies compare "
+                     "and fits read, with its unit and meaning (JSON, or --markdown)");
 
   try
   {
@@ -118,7 +123,8 @@ int main(int argc, char* argv[])
 
   if (describe->parsed())
   {
-    std::cout << nct::scene::describe(markdown);
+    std::cout << (biomarkers ? nct::biomarkers::describe(markdown)
+                             : nct::scene::describe(markdown));
     return 0;
   }
 

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <thread>
 
+#include "biomarkers/registry.h"
 #include "fit/fit.h"
 #include "jobs/jobs.h"
 #include "jobs/launcher_input.h"
@@ -14,7 +15,6 @@
 #include "io/toml_input.h"
 #include "scene/scene.h"
 #include "settings/settings.h"
-#include "study/study.h"
 
 namespace nct::fit
 {
@@ -49,16 +49,16 @@ double required(const toml::table& t, const std::string& name, const fs::path& f
   return *v;
 }
 
-/// The biomarkers a fit may compare: a puff run's summary.json values
-/// (the study's responses without the solver's counts and times).
-const std::vector<std::string>& biomarkers()
+/// The readings of the biomarker registry: the summary.json values a fit
+/// may compare.
+const std::vector<std::string>& readings()
 {
   static const std::vector<std::string> list = []
   {
     std::vector<std::string> out;
-    for (auto& [name, unit] : study::known_responses())
-      if (name != "newton_iterations" && name != "step_cuts" && name != "wall_s")
-        out.push_back(name);
+    for (auto& e : biomarkers::registry())
+      if (e.reading)
+        out.push_back(e.key);
     return out;
   }();
   return list;
@@ -456,9 +456,9 @@ Observation read_observation(const toml::table& ot, std::size_t i, const Fit& fi
              errors);
     o.kind = Kind::biomarker;
     o.quantity = ot["biomarker"].value_or(std::string());
-    if (std::find(biomarkers().begin(), biomarkers().end(), o.quantity) == biomarkers().end())
+    if (const auto* e = biomarkers::find(o.quantity); !e || !e->reading)
       throw key_error(file, where + "biomarker", "'" + o.quantity + "' is not a biomarker a "
-                                                 "puff run gives; one of " + join(biomarkers()));
+                                                 "puff run gives; one of " + join(readings()));
     o.value = {required(ot, "value", file, where + "value", "the measured value")};
     const double sd = sd_key();
     if (std::isnan(sd))

@@ -7,6 +7,7 @@
 
 #include <dolfinx/io/XDMFFile.h>
 
+#include "biomarkers/registry.h"
 #include "io/format.h"
 #include "run/air_block.h"
 #include "run/run.h"
@@ -86,51 +87,52 @@ void summarise_puff(RunState& s, const SolidBlock& solid)
   const auto& frames = *solid.frames;
   const PuffSettings& puff = s.settings.puff;
   nlohmann::json& summary = s.summary;
+  using biomarkers::put;
   const auto r = frames.analyse(puff.apex_window, puff.radius_window, puff.flatness);
   summary["frames"] = frames.frames();
-  summary["hc_time_ms"] = r.hc_time;
-  summary["deformation_amplitude_mm"] = r.deformation_amplitude;
-  summary["deflection_amplitude_mm"] = r.deflection_amplitude;
-  summary["whole_eye_motion_hc_mm"] = r.deflection_amplitude - r.deformation_amplitude;
-  summary["peak_distance_mm"] = r.peak_distance;
+  put(summary, "hc_time_ms", r.hc_time);
+  put(summary, "deformation_amplitude_mm", r.deformation_amplitude);
+  put(summary, "deflection_amplitude_mm", r.deflection_amplitude);
+  put(summary, "whole_eye_motion_hc_mm", r.deflection_amplitude - r.deformation_amplitude);
+  put(summary, "peak_distance_mm", r.peak_distance);
   if (r.hc_radius)
-    summary["hc_radius_mm"] = *r.hc_radius;
-  summary["max_inverse_radius_per_mm"] = r.max_inverse_radius;
-  summary["whole_eye_movement_max_mm"] = r.whole_eye_movement_max;
+    put(summary, "hc_radius_mm", *r.hc_radius);
+  put(summary, "max_inverse_radius_per_mm", r.max_inverse_radius);
+  put(summary, "whole_eye_movement_max_mm", r.whole_eye_movement_max);
   if (r.whole_eye_movement_time)
-    summary["whole_eye_movement_time_ms"] = *r.whole_eye_movement_time;
+    put(summary, "whole_eye_movement_time_ms", *r.whole_eye_movement_time);
   if (r.applanated)
   {
     for (auto [name, a] : {std::pair{"a1", &r.a1}, {"a2", &r.a2}})
     {
-      summary[std::string(name) + "_time_ms"] = a->time;
-      summary[std::string(name) + "_length_mm"] = a->length;
-      summary[std::string(name) + "_velocity_m_s"] = a->apex_velocity;
-      summary[std::string(name) + "_deflection_mm"] = a->deflection;
+      put(summary, std::string(name) + "_time_ms", a->time);
+      put(summary, std::string(name) + "_length_mm", a->length);
+      put(summary, std::string(name) + "_velocity_m_s", a->apex_velocity);
+      put(summary, std::string(name) + "_deflection_mm", a->deflection);
     }
-    summary["a1_a2_interval_ms"] = r.a1_a2_interval();
-    summary["a1_hc_interval_ms"] = r.a1_hc_interval();
-    summary["integrated_inverse_radius_ms_per_mm"] = *r.integrated_inverse_radius;
+    put(summary, "a1_a2_interval_ms", r.a1_a2_interval());
+    put(summary, "a1_hc_interval_ms", r.a1_hc_interval());
+    put(summary, "integrated_inverse_radius_ms_per_mm", *r.integrated_inverse_radius);
   }
   for (auto [key, ratio] :
        {std::pair{"da_ratio_1mm", &r.da_ratio_1mm}, {"da_ratio_2mm", &r.da_ratio_2mm}})
     if (*ratio)
-      summary[key] = **ratio;
-  summary["apex_pressure_hc_mmHg"] = frames.at("apex_air_pressure_mmHg", r.hc_time);
-  summary["apex_pressure_max_mmHg"] = frames.max("apex_air_pressure_mmHg");
+      put(summary, key, **ratio);
+  put(summary, "apex_pressure_hc_mmHg", frames.at("apex_air_pressure_mmHg", r.hc_time));
+  put(summary, "apex_pressure_max_mmHg", frames.max("apex_air_pressure_mmHg"));
   const auto& cavities = solid.mesh.cavity_names;
   std::optional<double> sp_a1;
   if (!cavities.empty())
   {
-    summary["iop_max_mmHg"] = frames.max(cavities[0] + "_pressure_mmHg");
-    summary["iop_hc_mmHg"] = frames.at(cavities[0] + "_pressure_mmHg", r.hc_time);
+    put(summary, "iop_max_mmHg", frames.max(cavities[0] + "_pressure_mmHg"));
+    put(summary, "iop_hc_mmHg", frames.at(cavities[0] + "_pressure_mmHg", r.hc_time));
     if (r.applanated)
       sp_a1 = biomarkers::stiffness_parameter_a1(
           frames.at("apex_air_pressure_mmHg", r.a1.time),
           frames.at(cavities[0] + "_pressure_mmHg", 0.0), r.a1.deflection);
   }
   if (sp_a1)
-    summary["sp_a1_mmHg_per_mm"] = *sp_a1;
+    put(summary, "sp_a1_mmHg_per_mm", *sp_a1);
   std::string text = format("biomarkers: HC %.3f ms, deformation %.4f mm, deflection %.4f "
                             "mm, peak distance %.3f mm, whole eye %.4f mm",
                             r.hc_time, r.deformation_amplitude, r.deflection_amplitude,

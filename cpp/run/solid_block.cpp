@@ -3,6 +3,7 @@
 #include <cmath>
 #include <set>
 
+#include "biomarkers/registry.h"
 #include "io/format.h"
 
 namespace nct
@@ -275,7 +276,7 @@ void SolidBlock::summarise(nlohmann::json& summary) const
     double max = 0;
     for (const auto& step : steps)
       max = std::max(max, step[name + "_pressure_mmHg"].get<double>());
-    summary[name + "_pressure_max_mmHg"] = max;
+    biomarkers::put(summary, name + "_pressure_max_mmHg", max);
   }
 }
 

@@ -27,6 +27,7 @@
 #include "jobs/launcher_input.h"
 #include "io/output.h"
 #include "io/toml_input.h"
+#include "biomarkers/registry.h"
 #include "jobs/jobs.h"
 #include "scene/scene.h"
 #include "study/analysis.h"
@@ -44,29 +45,6 @@ using jobs::read_text;
 using jobs::tail;
 using scene::Error;
 namespace fs = std::filesystem;
-
-const std::vector<std::pair<std::string, std::string>>& known_responses()
-{
-  static const std::vector<std::pair<std::string, std::string>> list = {
-      {"deflection_amplitude_mm", "mm"},  {"deformation_amplitude_mm", "mm"},
-      {"whole_eye_motion_hc_mm", "mm"},   {"peak_distance_mm", "mm"},
-      {"hc_time_ms", "ms"},               {"a1_time_ms", "ms"},
-      {"a1_length_mm", "mm"},             {"a1_velocity_m_s", "m/s"},
-      {"a2_time_ms", "ms"},               {"a2_length_mm", "mm"},
-      {"a2_velocity_m_s", "m/s"},         {"apex_pressure_hc_mmHg", "mmHg"},
-      {"apex_pressure_max_mmHg", "mmHg"}, {"iop_max_mmHg", "mmHg"},
-      {"iop_hc_mmHg", "mmHg"},            {"hc_radius_mm", "mm"},
-      {"max_inverse_radius_per_mm", "1/mm"}, {"integrated_inverse_radius_ms_per_mm", "ms/mm"},
-      {"whole_eye_movement_max_mm", "mm"}, {"whole_eye_movement_time_ms", "ms"},
-      {"da_ratio_1mm", ""},               {"da_ratio_2mm", ""},
-      {"a1_a2_interval_ms", "ms"},        {"a1_hc_interval_ms", "ms"},
-      {"a1_deflection_mm", "mm"},         {"a2_deflection_mm", "mm"},
-      {"sp_a1_mmHg_per_mm", "mmHg/mm"},   {"cavity_pressure_max_mmHg", "mmHg"},
-      {"aqueous_pressure_max_mmHg", "mmHg"}, {"vitreous_pressure_max_mmHg", "mmHg"},
-      {"newton_iterations", ""},
-      {"step_cuts", ""},                  {"wall_s", "s"}};
-  return list;
-}
 
 namespace
 {
@@ -311,12 +289,11 @@ Study Study::load(const fs::path& file)
       throw key_error(file, "study.responses", "name at least one response");
     for (auto& r : s.responses)
     {
-      auto& known = known_responses();
-      if (std::none_of(known.begin(), known.end(), [&](auto& k) { return k.first == r; }))
+      if (!biomarkers::find(r))
       {
         std::string list;
-        for (auto& k : known)
-          list += (list.empty() ? "" : ", ") + k.first;
+        for (auto& k : biomarkers::registry())
+          list += (list.empty() ? "" : ", ") + k.key;
         throw key_error(file, "study.responses", "unknown response '" + r + "'; one of " + list);
       }
       if (std::count(s.responses.begin(), s.responses.end(), r) > 1)
@@ -737,10 +714,7 @@ void analyse_ablation(const Study& s, const std::vector<Result>& results, const 
     for (auto& r : results)
       y.push_back(r.responses[j]);
     table.push_back(compare_to_baseline(y));
-    std::string unit;
-    for (auto& [key, u] : known_responses())
-      if (key == name)
-        unit = u;
+    const std::string unit = biomarkers::find(name)->unit;
     auto& rj = json["responses"][name];
     rj["unit"] = unit;
     std::cout << "\n" << name << (unit.empty() ? "" : " [" + unit + "]") << "\n"

@@ -64,10 +64,6 @@ struct Study
   static Study load(const std::filesystem::path& file);
 };
 
-/// The responses a study may ask for: the numeric summary.json keys of a
-/// puff run (docs/physics.md section 10), with their units.
-const std::vector<std::pair<std::string, std::string>>& known_responses();
-
 /// Command-line settings of a study.
 struct Options
 {

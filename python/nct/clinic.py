@@ -9,8 +9,12 @@ upper bound).
 
     rows = z_scores(summary)      # (name, value, unit, (mean, SD) or None, z or None)
     print(markdown(summary))
+
+Units are the biomarker registry's (nct.biomarkers).
 """
 import math
+
+from . import biomarkers
 
 A1, HC, A2 = (7.36, 0.39), (16.84, 0.64), (20.13, 0.48)
 # Normal eyes' mean times [ms] (device clock).
@@ -22,32 +26,32 @@ def interval(a, b):
     return (b[0] - a[0], math.hypot(a[1], b[1]))
 
 
-# (key, name, unit, clinical (mean, SD) or None, scale of the run's value)
+# (key, name, clinical (mean, SD) or None, scale of the run's value)
 ROWS = [
-    ("deformation_amplitude_mm", "deformation amplitude", "mm", (1.05, 0.10), 1),
-    ("deflection_amplitude_mm", "deflection amplitude", "mm", None, 1),
-    ("a1_time_ms", "A1 time (device clock)", "ms", A1, 1),
-    ("hc_time_ms", "HC time (device clock)", "ms", HC, 1),
-    ("a2_time_ms", "A2 time (device clock)", "ms", A2, 1),
-    ("a1_hc_interval_ms", "A1 to HC", "ms", interval(A1, HC), 1),
-    ("a1_a2_interval_ms", "A1 to A2", "ms", interval(A1, A2), 1),
-    ("a1_length_mm", "A1 length", "mm", (1.82, 0.22), 1),
-    ("a2_length_mm", "A2 length", "mm", (1.34, 0.55), 1),
+    ("deformation_amplitude_mm", "deformation amplitude", (1.05, 0.10), 1),
+    ("deflection_amplitude_mm", "deflection amplitude", None, 1),
+    ("a1_time_ms", "A1 time (device clock)", A1, 1),
+    ("hc_time_ms", "HC time (device clock)", HC, 1),
+    ("a2_time_ms", "A2 time (device clock)", A2, 1),
+    ("a1_hc_interval_ms", "A1 to HC", interval(A1, HC), 1),
+    ("a1_a2_interval_ms", "A1 to A2", interval(A1, A2), 1),
+    ("a1_length_mm", "A1 length", (1.82, 0.22), 1),
+    ("a2_length_mm", "A2 length", (1.34, 0.55), 1),
     # The clinic signs velocities + inwards; ours + outwards.
-    ("a1_velocity_m_s", "A1 velocity (+ inwards)", "m/s", (0.12, 0.04), -1),
-    ("a2_velocity_m_s", "A2 velocity (+ inwards)", "m/s", (-0.67, 0.17), -1),
-    ("peak_distance_mm", "peak distance", "mm", (4.60, 1.01), 1),
-    ("hc_radius_mm", "HC radius", "mm", (7.35, 1.39), 1),
-    ("whole_eye_movement_max_mm", "whole-eye movement, max", "mm", None, 1),
-    ("whole_eye_movement_time_ms", "whole-eye movement, time (device clock)", "ms",
+    ("a1_velocity_m_s", "A1 velocity (+ inwards)", (0.12, 0.04), -1),
+    ("a2_velocity_m_s", "A2 velocity (+ inwards)", (-0.67, 0.17), -1),
+    ("peak_distance_mm", "peak distance", (4.60, 1.01), 1),
+    ("hc_radius_mm", "HC radius", (7.35, 1.39), 1),
+    ("whole_eye_movement_max_mm", "whole-eye movement, max", None, 1),
+    ("whole_eye_movement_time_ms", "whole-eye movement, time (device clock)",
      (21.07, 0.51), 1),
-    ("da_ratio_1mm", "DA ratio 1 mm", "", None, 1),
-    ("da_ratio_2mm", "DA ratio 2 mm", "", None, 1),
-    ("max_inverse_radius_per_mm", "max inverse concave radius", "1/mm", None, 1),
-    ("integrated_inverse_radius_ms_per_mm", "integrated inverse radius", "ms/mm", None, 1),
-    ("a1_deflection_mm", "deflection amplitude at A1", "mm", None, 1),
-    ("sp_a1_mmHg_per_mm", "SP-A1", "mmHg/mm", None, 1),
-    ("iop_max_mmHg", "IOP, max under the puff", "mmHg", None, 1),
+    ("da_ratio_1mm", "DA ratio 1 mm", None, 1),
+    ("da_ratio_2mm", "DA ratio 2 mm", None, 1),
+    ("max_inverse_radius_per_mm", "max inverse concave radius", None, 1),
+    ("integrated_inverse_radius_ms_per_mm", "integrated inverse radius", None, 1),
+    ("a1_deflection_mm", "deflection amplitude at A1", None, 1),
+    ("sp_a1_mmHg_per_mm", "SP-A1", None, 1),
+    ("iop_max_mmHg", "IOP, max under the puff", None, 1),
 ]
 
 
@@ -55,11 +59,11 @@ def z_scores(summary):
     """Per parameter the run has: (name, value on the clinic's sign, unit,
     the norm (mean, SD) or None, z = (value - mean) / SD or None)."""
     rows = []
-    for key, name, unit, norm, scale in ROWS:
+    for key, name, norm, scale in ROWS:
         if key in summary:
             value = scale * summary[key]
             z = (value - norm[0]) / norm[1] if norm else None
-            rows.append((name, value, unit, norm, z))
+            rows.append((name, value, biomarkers.unit(key), norm, z))
     return rows
 
 
