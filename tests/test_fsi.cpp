@@ -96,7 +96,7 @@ JacobianCheck check_jacobian(bool shape_derivative, double eps)
   auto& solid = model.solid->problem;
   solid.start_dynamics({0.1, 0.8, 0.1});
   f.coupling->coupled.start();
-  f.coupling->coupled.set_time_step(0.1, 0.8, 0.1, 1);
+  f.coupling->coupled.set_time_step({0.1, 0.8, 0.1}, 1);
   f.air->problem.set_inlet_scale(5.0);
 
   // The direction d (zero where a Dirichlet condition holds the unknown:

@@ -61,7 +61,7 @@ double lame_cylinder(double r, double a, double b, double p, double E, double nu
 /// press(t) [MPa] with time step dt [ms] until `end`: after each step,
 /// sample(t, problem).
 void march(const std::string& scene, const std::vector<std::string>& sets,
-           const nct::solid::TimeStep& step, double end,
+           const nct::dynamics::TimeStep& step, double end,
            const std::function<double(double)>& press,
            const std::function<void(double, const nct::solid::Problem&)>& sample)
 {

@@ -261,10 +261,10 @@ void Coupled::restore(const io::CheckpointReader& checkpoint, const nlohmann::js
   _started = true;
 }
 
-void Coupled::set_time_step(double dt, double rho_inf, double damping, int bdf_order)
+void Coupled::set_time_step(const dynamics::TimeStep& step, int bdf_order)
 {
-  _solid.set_time_step({dt, rho_inf, damping});
-  _air.set_time_step(dt, bdf_order);
+  _solid.set_time_step(step);
+  _air.set_time_step(step.dt, bdf_order);
   _alpha_f = 1 - _solid.load_level();
   for (auto i : _moved_rows)
     _air_block.row_factor[i] = _air_mesh_block.row_factor[i] = 1 - _alpha_f;

@@ -94,9 +94,9 @@ public:
   solver::System system(cavity::Closed* closed);
   /// A matrix with the coupled Jacobian's pattern (assembled once).
   Mat create_matrix();
-  /// The next step: its length [ms], generalised-alpha's rho_inf and the
-  /// damping of the solid, the air's BDF order.
-  void set_time_step(double dt, double rho_inf, double damping, int bdf_order);
+  /// The next step (its length and the solid's integrator) and the air's
+  /// BDF order.
+  void set_time_step(const dynamics::TimeStep& step, int bdf_order);
   /// After a converged step: the new state becomes the old one.
   void advance();
   /// The interface power of the converged step (before advance()).

@@ -19,7 +19,8 @@ using io::format;
 /// (uniform, or parabolic 1 - (r / bore radius)^2) on the eye; a file
 /// mesh's inlet groups (inlet.*).
 std::function<std::array<double, 3>(const std::array<double, 3>&)>
-inlet_shape(const InletSettings& s, const AirMesh& a, const air::Boundaries& b, bool eye)
+inlet_shape(const InletSettings& s, const std::vector<std::array<double, 4>>& table,
+            const AirMesh& a, const air::Boundaries& b, bool eye)
 {
   using P = InletSettings::Profile;
   if (eye)
@@ -51,7 +52,7 @@ inlet_shape(const InletSettings& s, const AirMesh& a, const air::Boundaries& b, 
   if (s.profile == P::table)
   {
     in.profile = air::Inlet::Profile::table;
-    in.points = s.points;
+    in.points = table;
   }
   else if (s.profile == P::parabolic)
   {
@@ -74,7 +75,7 @@ inlet_shape(const InletSettings& s, const AirMesh& a, const air::Boundaries& b, 
 /// The inlet's speed [mm/ms] at time t: on the eye, the puff's Gaussian in
 /// time or the square root of the measured pulse's shape (inlet.history);
 /// on a file mesh, inlet.velocity ramped over inlet.ramp_time.
-std::function<double(double)> inlet_speed(const Settings& s, bool eye)
+std::function<double(double)> inlet_speed(const AirBlockSettings& s, bool eye)
 {
   const InletSettings& in = s.air.inlet;
   if (!eye)
@@ -87,24 +88,25 @@ std::function<double(double)> inlet_speed(const Settings& s, bool eye)
   }
   const double U = in.velocity;
   if (in.pulse)
-    return [U, shape = *s.puff.pulse_shape](double t) { return U * std::sqrt(shape(t)); };
-  const double peak_time = s.puff.peak_time, width_t = s.puff.width_t;
+    return [U, shape = *s.pulse](double t) { return U * std::sqrt(shape(t)); };
+  const double peak_time = s.peak_time, width_t = s.width_t;
   return [=](double t)
   { return U * std::exp(-(t - peak_time) * (t - peak_time) / (2 * width_t * width_t)); };
 }
 
 } // namespace
 
-AirBlock::AirBlock(AirMesh air_mesh, const Settings& s, const air::Fluid& fluid,
+AirBlock::AirBlock(AirMesh air_mesh, AirBlockSettings s, const air::Fluid& fluid,
                    const air::Boundaries& boundaries, double velocity_scale,
                    std::shared_ptr<dolfinx::fem::Function<double>> motion, bool is_eye,
                    bool eye_in_air)
-    : mesh(std::move(air_mesh)),
-      problem(mesh.mesh, fluid, boundaries, velocity_scale, std::move(motion), s.mesh.dimension),
-      settings(s),
-      eye(is_eye), with_eye(eye_in_air), _inlet(inlet_speed(s, is_eye))
+    : mesh(std::move(air_mesh)), settings(std::move(s)),
+      problem(mesh.mesh, fluid, boundaries, velocity_scale, std::move(motion),
+              settings.dimension),
+      eye(is_eye), with_eye(eye_in_air), _inlet(inlet_speed(settings, is_eye))
 {
-  problem.set_inlet(inlet_shape(s.air.inlet, mesh, boundaries, is_eye));
+  problem.set_inlet(inlet_shape(settings.air.inlet, settings.inlet_table, mesh, boundaries,
+                                is_eye));
 }
 
 void AirBlock::describe(nlohmann::json& summary, io::RunFolder& folder) const
@@ -266,10 +268,11 @@ void AirBlock::restore(const io::CheckpointReader& checkpoint, const nlohmann::j
 // The coupling.
 
 CouplingBlock::CouplingBlock(SolidBlock& solid, AirBlock& air, MeshMotionBlock& motion,
-                             const fsi::Interface& interface, const Settings& s)
-    : coupled(solid.problem, air.problem, motion.problem, solid.mesh.mesh, air.mesh.mesh,
-              interface, s.fsi.shape_derivative),
-      settings(s), _solid(solid), _air(air)
+                             const fsi::Interface& interface, const FsiSettings& s)
+    : settings(s),
+      coupled(solid.problem, air.problem, motion.problem, solid.mesh.mesh, air.mesh.mesh,
+              interface, s.shape_derivative),
+      _solid(solid), _air(air)
 {
 }
 
@@ -288,7 +291,7 @@ void CouplingBlock::set_solver_options() const
   // over the solid and the air with its mesh motion, each block by MUMPS
   // LU; under the prefix "fsi_" unless given (e.g. by --petsc).
   std::vector<std::pair<std::string, std::string>> options;
-  if (!settings.fsi.fieldsplit)
+  if (!settings.fieldsplit)
     options = {{"ksp_type", "preonly"},
                {"pc_type", "lu"},
                {"pc_factor_mat_solver_type", "mumps"},
@@ -336,14 +339,12 @@ void CouplingBlock::set_fieldsplit(KSP ksp)
 
 Stepper::Dynamics CouplingBlock::dynamics()
 {
-  const double rho_inf = settings.solid.dynamics.rho_inf,
-               damping = settings.solid.dynamics.damping;
-  const int order = settings.air.bdf_order;
   const double symmetry = _solid.problem.symmetry_factor();
-  return {[this, rho_inf, damping, order](double dt)
+  return {[this](double dt)
           {
             _step = dt;
-            coupled.set_time_step(dt, rho_inf, damping, order);
+            coupled.set_time_step(_solid.settings.time_step.with_dt(dt),
+                                  _air.settings.air.bdf_order);
           },
           [] { return 1.0; }, // the air balances at t_{n+1}, where its inlet is set
           [this, symmetry]
@@ -424,7 +425,7 @@ void CouplingBlock::account(double dt, double power)
   const double reaction_power = symmetry() * _power.solid;
   e.traction += 0.5 * dt * (e.power + power);
   e.reaction += 0.5 * dt * (e.reaction_power + reaction_power);
-  e.damping += dt * settings.solid.dynamics.damping * (e.last.kinetic + now.kinetic);
+  e.damping += dt * _solid.settings.time_step.damping * (e.last.kinetic + now.kinetic);
   for (std::size_t c = 0; c < now.volumes.size(); ++c)
     e.cavities += 0.5 * (e.last.pressures[c] + now.pressures[c])
                   * (now.volumes[c] - e.last.volumes[c]);

@@ -33,13 +33,13 @@ public:
   /// The air on `mesh`; `motion`: its mesh displacement when the mesh
   /// moves (coupled), else null. `with_eye`: the eye is in the air (a
   /// rigid or coupled wall).
-  AirBlock(AirMesh mesh, const Settings& settings, const air::Fluid& fluid,
+  AirBlock(AirMesh mesh, AirBlockSettings settings, const air::Fluid& fluid,
            const air::Boundaries& boundaries, double velocity_scale,
            std::shared_ptr<dolfinx::fem::Function<double>> motion, bool eye, bool with_eye);
 
   const AirMesh mesh;
+  const AirBlockSettings settings;
   air::Problem problem;
-  const Settings& settings;
   const bool eye;      ///< the idealised eye's air (else a file mesh's fluid)
   const bool with_eye; ///< the eye is a wall in it (rigid or coupled)
 
@@ -114,9 +114,9 @@ class CouplingBlock : public Block
 {
 public:
   CouplingBlock(SolidBlock& solid, AirBlock& air, MeshMotionBlock& motion,
-                const fsi::Interface& interface, const Settings& settings);
+                const fsi::Interface& interface, const FsiSettings& settings);
+  const FsiSettings settings;
   fsi::Coupled coupled;
-  const Settings& settings;
 
   // Block
   const char* name() const override { return "coupling"; }

@@ -65,9 +65,10 @@ std::vector<std::array<double, 3>> centreline_points(const AirMesh& a)
 
 } // namespace
 
-AirFields::AirFields(const Settings& settings, io::RunFolder& folder, const meshio::Tagged& mesh,
+AirFields::AirFields(const AirBlockSettings& settings, io::RunFolder& folder, const meshio::Tagged& mesh,
                      air::Problem& air, const mesh_motion::Problem* motion)
-    : _write(settings.output.fields), _interval(settings.air.output_interval), _air(air), _motion(motion), _fields(folder, mesh.mesh, air.w->function_space()),
+    : _write(settings.fields), _interval(settings.air.output_interval), _air(air),
+      _motion(motion), _fields(folder, mesh.mesh, air.w->function_space()),
       _moving(motion ? std::make_unique<io::MovingFields>(folder, mesh.mesh) : nullptr)
 {
 }
@@ -108,7 +109,7 @@ void AirFields::restore(const nlohmann::json& state)
     _fields.resume(state.at("files"));
 }
 
-AirOutput::AirOutput(const Settings& settings, io::RunFolder& folder, const AirMesh& a,
+AirOutput::AirOutput(const AirBlockSettings& settings, io::RunFolder& folder, const AirMesh& a,
                      air::Problem& air, bool with_eye, const mesh_motion::Problem* motion)
     : _folder(folder), _air(air), _motion(motion), _with_eye(with_eye),
       _centreline(*a.mesh.mesh, centreline_points(a)),
@@ -176,7 +177,7 @@ void AirOutput::summarise(nlohmann::json& summary) const
   }
 }
 
-FlowOutput::FlowOutput(const Settings& settings, io::RunFolder& folder,
+FlowOutput::FlowOutput(const AirBlockSettings& settings, io::RunFolder& folder,
                        const meshio::Tagged& mesh, air::Problem& air,
                        const mesh_motion::Problem* motion)
     : _folder(folder), _air(air), _fields(settings, folder, mesh, air, motion),
@@ -189,7 +190,7 @@ FlowOutput::FlowOutput(const Settings& settings, io::RunFolder& folder,
   if (_forces)
     _wall_dofs = air.wall_dofs(groups);
   // An axisymmetric section's forms are per radian: the whole revolution.
-  _revolution = settings.mesh.dimension == section::Dimension::axisymmetric ? 2 * M_PI : 1.0;
+  _revolution = settings.dimension == section::Dimension::axisymmetric ? 2 * M_PI : 1.0;
 }
 
 void FlowOutput::measure()
@@ -224,7 +225,7 @@ void FlowOutput::summarise(nlohmann::json& summary) const
     summary["force_N"] = {_last.force[0], _last.force[1], _last.force[2]};
 }
 
-AirRecord::AirRecord(const Settings& settings, io::RunFolder& folder, const AirMesh& mesh,
+AirRecord::AirRecord(const AirBlockSettings& settings, io::RunFolder& folder, const AirMesh& mesh,
                      air::Problem& air, bool eye, bool with_eye,
                      const mesh_motion::Problem* motion)
 {

@@ -21,6 +21,20 @@
 namespace nct
 {
 
+/// What the air block takes of the scene: [air] and [inlet] (with
+/// output.force_on), the puff's time course that the inlet follows and the
+/// measured pulse's shape the check built, a file mesh's inlet table, the
+/// model's dimension, whether fields are written.
+struct AirBlockSettings
+{
+  AirSettings air;
+  double peak_time, width_t;             ///< the inlet's Gaussian in time [ms]
+  std::optional<puff::PulseShape> pulse; ///< its measured pulse (inlet.history = "pulse")
+  std::vector<std::array<double, 4>> inlet_table; ///< a file mesh's: x, y, z [mm], u [m/s]
+  section::Dimension dimension;
+  bool fields; ///< output.fields
+};
+
 /// The air's velocity and pressure fields (output.fields) every
 /// air.output_interval: on a fixed mesh as XDMF, on a moving one each
 /// write on its current mesh, with the mesh displacement.
@@ -28,7 +42,7 @@ class AirFields
 {
 public:
   /// `motion`: the mesh motion, or null for a fixed mesh.
-  AirFields(const Settings& settings, io::RunFolder& folder, const meshio::Tagged& mesh,
+  AirFields(const AirBlockSettings& settings, io::RunFolder& folder, const meshio::Tagged& mesh,
             air::Problem& air, const mesh_motion::Problem* motion);
   /// Write the fields at `time` if they are due (update_fields done).
   void sample(double time);
@@ -65,7 +79,7 @@ class AirOutput
 public:
   /// Find the probes on the air mesh as it is now (the reference of a
   /// moving one). `motion`: the mesh motion, or null for a fixed mesh.
-  AirOutput(const Settings& settings, io::RunFolder& folder, const AirMesh& mesh,
+  AirOutput(const AirBlockSettings& settings, io::RunFolder& folder, const AirMesh& mesh,
             air::Problem& air, bool with_eye, const mesh_motion::Problem* motion);
 
   struct Sample
@@ -110,7 +124,7 @@ class FlowOutput
 {
 public:
   /// `motion`: the mesh motion, or null for a fixed mesh.
-  FlowOutput(const Settings& settings, io::RunFolder& folder, const meshio::Tagged& mesh,
+  FlowOutput(const AirBlockSettings& settings, io::RunFolder& folder, const meshio::Tagged& mesh,
              air::Problem& air, const mesh_motion::Problem* motion);
 
   struct Sample
@@ -156,7 +170,7 @@ public:
   /// `eye`: the idealised eye's air (else a file mesh's fluid); `with_eye`:
   /// the eye is in the air (a rigid or coupled wall); `motion`: the mesh
   /// motion, or null for a fixed mesh.
-  AirRecord(const Settings& settings, io::RunFolder& folder, const AirMesh& mesh,
+  AirRecord(const AirBlockSettings& settings, io::RunFolder& folder, const AirMesh& mesh,
             air::Problem& air, bool eye, bool with_eye, const mesh_motion::Problem* motion);
 
   struct Sample

@@ -132,7 +132,7 @@ eye_meshes(MPI_Comm comm, const Input& in, bool solid, bool air)
               if (air)
                 (dimension == section::Dimension::axisymmetric ? air::build_section
                                                                : air::build)(
-                    s.air.domain, s.mesh.derived.apex_y, g.cut_y,
+                    s.air.domain, in.built.eye.apex_y, g.cut_y,
                     with_eye ? g.sclera_outer_radius : 0.0, with_eye);
             });
   const meshio::Model whole = meshio::extract(comm);
@@ -141,7 +141,7 @@ eye_meshes(MPI_Comm comm, const Input& in, bool solid, bool air)
   {
     const std::vector<std::int32_t> air_tag{static_cast<std::int32_t>(air::Group::volume)};
     a.emplace();
-    a->eye = s.mesh.derived;
+    a->eye = in.built.eye;
     a->domain = s.air.domain;
     count_cells(comm, whole, air_tag, *a);
     a->mesh = meshio::distribute(comm, meshio::keep(whole, air_tag));
@@ -149,13 +149,13 @@ eye_meshes(MPI_Comm comm, const Input& in, bool solid, bool air)
   if (!solid)
     return {std::nullopt, std::move(a)};
   if (!air)
-    return {eye_setup(meshio::distribute(comm, whole), g, s.mesh.derived, dimension),
+    return {eye_setup(meshio::distribute(comm, whole), g, in.built.eye, dimension),
             std::nullopt};
   std::vector<std::int32_t> eye_tags;
   for (auto& [name, tag] : whole.groups.volumes)
     if (tag != static_cast<std::int32_t>(air::Group::volume))
       eye_tags.push_back(tag);
-  return {eye_setup(meshio::distribute(comm, meshio::keep(whole, eye_tags)), g, s.mesh.derived,
+  return {eye_setup(meshio::distribute(comm, meshio::keep(whole, eye_tags)), g, in.built.eye,
                     dimension),
           std::move(a)};
 }
@@ -168,7 +168,7 @@ std::pair<std::optional<MeshSetup>, std::optional<AirMesh>> file_meshes(MPI_Comm
                                                                         const Input& in)
 {
   const Settings& s = in.settings;
-  const meshio::Groups& groups = s.mesh.opened->groups();
+  const meshio::Groups& groups = in.built.file_mesh->groups();
   auto tags = [&](const std::vector<std::string>& names)
   {
     std::vector<std::int32_t> t;
@@ -185,7 +185,7 @@ std::pair<std::optional<MeshSetup>, std::optional<AirMesh>> file_meshes(MPI_Comm
     b.cavities = {walls};
   b.press = tags(bs.press);
 
-  meshio::Model whole = s.mesh.opened->extract(comm, s.mesh.size_max);
+  meshio::Model whole = in.built.file_mesh->extract(comm, s.mesh.size_max);
   const auto fluids = s.fluid_parts();
   std::vector<std::int32_t> fluid_tags, solid_tags;
   for (auto& [name, tag] : groups.volumes)
@@ -288,7 +288,7 @@ FluidSide eye_fluid_side(const Settings& s, const AirMesh& a, const MeshSetup* s
 
 /// A file mesh's fluid: its groups' conditions (boundary.*), the fluid
 /// part's properties, the inlet's largest speed.
-FluidSide file_fluid_side(const Settings& s, const AirMesh& a)
+FluidSide file_fluid_side(const Settings& s, const Built& built, const AirMesh& a)
 {
   const meshio::Tagged& m = a.mesh;
   const auto& bs = s.mesh.boundary;
@@ -327,12 +327,30 @@ FluidSide file_fluid_side(const Settings& s, const AirMesh& a)
   f.fluid = {fluid.density, fluid.viscosity, s.air.fluid.backflow, s.air.fluid.stabilisation_time};
   double speed = 0; // the largest
   if (s.air.inlet.profile == InletSettings::Profile::table)
-    for (const auto& p : s.air.inlet.points)
+    for (const auto& p : built.inlet_table)
       speed = std::max(speed, std::abs(p[3]));
   else
     speed = s.air.inlet.velocity;
   f.velocity_scale = speed > 0 ? speed : 1.0;
   return f;
+}
+
+/// The solid block's settings: its keys, its materials, the time step, the
+/// puff's load and frames, the prescribed pressure the check built.
+SolidBlockSettings solid_block_settings(const Input& in)
+{
+  const Settings& s = in.settings;
+  return {s.solid,           s.materials,  s.dynamics,     s.puff.load,
+          in.built.puff_pressure, s.puff.frame_rate, s.output.fields};
+}
+
+/// The air block's settings: [air] and [inlet], the puff's time course and
+/// measured pulse, a file mesh's inlet table, the model's dimension.
+AirBlockSettings air_block_settings(const Input& in)
+{
+  const Settings& s = in.settings;
+  return {s.air,          s.puff.peak_time,     s.puff.width_t, in.built.pulse,
+          in.built.inlet_table, s.mesh.dimension, s.output.fields};
 }
 
 } // namespace
@@ -353,8 +371,7 @@ std::vector<Block*> Model::blocks() const
 Model make_model(MPI_Comm comm, const Input& in)
 {
   Model model;
-  model.settings = std::make_shared<const Settings>(in.settings);
-  const Settings& s = *model.settings;
+  const Settings& s = in.settings;
   model.eye = s.mesh.eye();
   const PuffSettings::Load load = s.puff.load;
   const bool air = load == PuffSettings::Load::air || load == PuffSettings::Load::fsi;
@@ -379,11 +396,12 @@ Model make_model(MPI_Comm comm, const Input& in)
 
   t = MPI_Wtime();
   if (solid_mesh)
-    model.solid = std::make_unique<SolidBlock>(std::move(*solid_mesh), s, model.eye);
+    model.solid
+        = std::make_unique<SolidBlock>(std::move(*solid_mesh), solid_block_settings(in), model.eye);
   if (air_mesh)
   {
     const FluidSide f = model.eye ? eye_fluid_side(s, *air_mesh, solid ? &model.solid->mesh : nullptr)
-                                  : file_fluid_side(s, *air_mesh);
+                                  : file_fluid_side(s, in.built, *air_mesh);
     std::shared_ptr<dolfinx::fem::Function<double>> d;
     if (solid)
     {
@@ -404,12 +422,13 @@ Model make_model(MPI_Comm comm, const Input& in)
       d = model.mesh_motion->problem.d;
     }
     const bool with_eye = solid || s.air.rigid_eye;
-    model.air = std::make_unique<AirBlock>(std::move(*air_mesh), s, f.fluid, f.boundaries,
-                                           f.velocity_scale, d, model.eye, with_eye);
+    model.air = std::make_unique<AirBlock>(std::move(*air_mesh), air_block_settings(in), f.fluid,
+                                           f.boundaries, f.velocity_scale, d, model.eye,
+                                           with_eye);
     if (solid)
       model.coupling = std::make_unique<CouplingBlock>(
           *model.solid, *model.air, *model.mesh_motion,
-          fsi::Interface{f.solid_interface, f.boundaries.interface}, s);
+          fsi::Interface{f.solid_interface, f.boundaries.interface}, s.fsi);
   }
   model.t_setup = MPI_Wtime() - t;
   return model;

@@ -28,8 +28,6 @@ class Model
 public:
   Model(Model&&) noexcept;
   ~Model();
-  /// The settings the blocks were built from (theirs for the model's life).
-  std::shared_ptr<const Settings> settings;
   bool eye = false;   ///< the parametric eye (else an external mesh)
   double t_mesh = 0;  ///< wall time of meshing and distribution [s]
   double t_setup = 0; ///< wall time of the blocks' setup [s]

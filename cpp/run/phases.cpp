@@ -385,7 +385,7 @@ public:
     nlohmann::json keys{{"phase", "rest"}};
     if (_columns.empty())
       keys["apex_air_pressure_mmHg"] = 0.0;
-    s.stepper.march(s.solid_newton(), "rest", -rest, rest, s.settings.solid.dynamics.dt,
+    s.stepper.march(s.solid_newton(), "rest", -rest, rest, s.settings.dynamics.dt,
                     _solid.dynamics(), _solid.system(), [](double) {},
                     [&](double t, double dt, const auto& report)
                     {
@@ -423,7 +423,8 @@ public:
     auto& newton = this->newton(s);
     try
     {
-      s.stepper.march(newton, march_name(), 0, s.settings.puff.duration, dt(s), dynamics(),
+      s.stepper.march(newton, march_name(), 0, s.settings.puff.duration, s.settings.dynamics.dt,
+                      dynamics(),
                       system(), [&](double t) { load(t); },
                       [&](double t, double dt, const solver::NewtonReport& report)
                       { record(s, t, dt, report); });
@@ -444,8 +445,6 @@ protected:
   virtual solver::Newton& newton(RunState& s) = 0;
   virtual solver::System system() = 0;
   virtual Stepper::Dynamics dynamics() = 0;
-  /// The nominal time step [ms].
-  virtual double dt(const RunState& s) const = 0;
   virtual const char* march_name() const { return "puff"; }
   /// The loads at time t.
   virtual void load(double t) = 0;
@@ -470,7 +469,6 @@ protected:
       _solid.add_frame(0, 0, solver::NewtonReport{true, 0, {0.0}, ""}, first,
                        _solid.cavity_state());
   }
-  double dt(const RunState& s) const override { return s.settings.solid.dynamics.dt; }
   void finish_solid(RunState& s)
   {
     if (_solid.frames)
@@ -539,7 +537,6 @@ protected:
   }
   solver::System system() override { return _air.system(); }
   Stepper::Dynamics dynamics() override { return _air.dynamics(); }
-  double dt(const RunState& s) const override { return s.settings.air.dt; }
   const char* march_name() const override { return "air"; }
   void load(double t) override { _air.set_inlet(t); }
   void record(RunState& s, double t, double dt, const solver::NewtonReport& report) override

@@ -17,28 +17,30 @@ using io::format;
 nlohmann::json vec(const std::array<double, 3>& v) { return {v[0], v[1], v[2]}; }
 
 /// The solid parts' materials.
-std::map<std::string, solid::Material> solid_materials(const MeshSetup& mesh, const Settings& s)
+std::map<std::string, solid::Material>
+solid_materials(const MeshSetup& mesh, const std::map<std::string, solid::Material>& all)
 {
   std::map<std::string, solid::Material> materials;
   for (auto& [tag, part] : mesh.parts)
-    materials[part] = s.materials.at(part);
+    materials[part] = all.at(part);
   return materials;
 }
 
 } // namespace
 
-SolidBlock::SolidBlock(MeshSetup mesh_setup, const Settings& s, bool is_eye)
-    : mesh(std::move(mesh_setup)),
-      problem(mesh.mesh, s.solid.element, mesh.parts, solid_materials(mesh, s), mesh.fibres,
-              mesh.boundaries, mesh.volume_origin),
-      settings(s), eye(is_eye), probes(mesh.probes), _open_pressures(problem.cavities(), 0.0),
-      _press_peak(s.solid.press.pressure * mmHg)
+SolidBlock::SolidBlock(MeshSetup mesh_setup, SolidBlockSettings s, bool is_eye)
+    : mesh(std::move(mesh_setup)), settings(std::move(s)),
+      problem(mesh.mesh, settings.solid.element, mesh.parts,
+              solid_materials(mesh, settings.materials), mesh.fibres, mesh.boundaries,
+              mesh.volume_origin),
+      eye(is_eye), probes(mesh.probes), _open_pressures(problem.cavities(), 0.0),
+      _press_peak(settings.solid.press.pressure * mmHg)
 {
   _open.emplace(problem);
   _press_profile = [](const auto&) { return 1.0; };
-  if (s.solid.press.gaussian)
+  if (settings.solid.press.gaussian)
   {
-    const double w = s.solid.press.width;
+    const double w = settings.solid.press.width;
     _press_profile = [w](const std::array<double, 3>& x)
     { return std::exp(-(x[0] * x[0] + x[2] * x[2]) / (2 * w * w)); };
   }
@@ -124,7 +126,7 @@ void SolidBlock::set_load(double t)
 {
   problem.set_press(mmHg);
   const double press = _press_peak / mmHg;
-  const puff::Load* air = settings.puff.pressure.get();
+  const puff::Load* air = settings.prescribed.get();
   problem.set_press_profile(
       [this, t, press, air](const std::array<double, 3>& X)
       {
@@ -135,7 +137,7 @@ void SolidBlock::set_load(double t)
 
 double SolidBlock::apex_load(double t) const
 {
-  const puff::Load* air = settings.puff.pressure.get();
+  const puff::Load* air = settings.prescribed.get();
   return t < 0 || !air ? 0.0 : (*air)(0, t);
 }
 
@@ -146,15 +148,13 @@ void SolidBlock::start_dynamics()
   if (_dynamic)
     return;
   _dynamic = true;
-  problem.start_dynamics(settings.solid.dynamics);
+  problem.start_dynamics(settings.time_step);
   open_frames();
 }
 
 Stepper::Dynamics SolidBlock::dynamics()
 {
-  const double rho_inf = settings.solid.dynamics.rho_inf,
-               damping = settings.solid.dynamics.damping;
-  return {[this, rho_inf, damping](double dt) { problem.set_time_step({dt, rho_inf, damping}); },
+  return {[this](double dt) { problem.set_time_step(settings.time_step.with_dt(dt)); },
           [this] { return problem.load_level(); }, [this] { problem.advance(); },
           [this] { problem.predict(); }};
 }
@@ -163,10 +163,10 @@ void SolidBlock::open_frames()
 {
   // The frames of a puff on the eye; a prescribed apex pressure is known
   // at every instant, a computed one is a state column.
-  if (!eye || settings.puff.load == PuffSettings::Load::none)
+  if (!eye || settings.puff == PuffSettings::Load::none)
     return;
   std::vector<std::pair<std::string, std::function<double(double)>>> known;
-  if (settings.puff.pressure)
+  if (settings.prescribed)
     known.push_back({"apex_air_pressure_mmHg", [this](double t) { return apex_load(t); }});
   std::vector<std::int32_t> anterior, posterior;
   auto& m = *mesh.mesh.mesh;
@@ -194,7 +194,7 @@ void SolidBlock::open_frames()
   constexpr double whole_eye_x = 4.0;
   frames.emplace(biomarkers::Section(problem, anterior, "anterior cornea"),
                  biomarkers::Section(problem, posterior, "posterior cornea"),
-                 settings.puff.frame_rate, whole_eye_x, known);
+                 settings.frame_rate, whole_eye_x, known);
 }
 
 // The record.
@@ -209,7 +209,7 @@ void SolidBlock::open_output(io::RunFolder& folder, nlohmann::json& summary, dou
   for (std::size_t i = 0; i < probes.size(); ++i)
     summary["probe_reference_mm"][mesh.probe_names[i]] = vec(probes[i]);
   _output.emplace(folder, mesh, problem, probes);
-  if (settings.output.fields)
+  if (settings.fields)
   {
     _output->fields.write(*problem.fields.at("fibre_1"), t);
     _output->fields.write(*problem.fields.at("fibre_2"), t);
@@ -219,7 +219,7 @@ void SolidBlock::open_output(io::RunFolder& folder, nlohmann::json& summary, dou
 
 void SolidBlock::write_fields(double time)
 {
-  if (!settings.output.fields)
+  if (!settings.fields)
     return;
   const double t = MPI_Wtime();
   problem.update_von_mises();
@@ -349,9 +349,9 @@ void SolidBlock::restore(const io::CheckpointReader& checkpoint, const nlohmann:
   _dynamic = state.at("dynamic");
   x_imaged.clear();
   inflated.clear();
-  std::optional<solid::TimeStep> step;
+  std::optional<dynamics::TimeStep> step;
   if (_dynamic)
-    step = settings.solid.dynamics;
+    step = settings.time_step;
   problem.restore(checkpoint, step);
   if (state.contains("closed"))
     _closed.emplace(problem, state["closed"].at("pressures").get<std::vector<double>>(),

@@ -22,16 +22,30 @@
 namespace nct
 {
 
+/// What the solid block takes of the scene: its keys ([fem], [cavity],
+/// [press], ...) and its parts' materials, the time step, the puff that
+/// loads it and its frames' clock, whether fields are written.
+struct SolidBlockSettings
+{
+  SolidSettings solid;
+  std::map<std::string, solid::Material> materials; ///< by part
+  dynamics::TimeStep time_step;
+  PuffSettings::Load puff;                           ///< none: no frames
+  std::shared_ptr<const puff::Load> prescribed;      ///< the prescribed p(r, t) [mmHg], or null
+  double frame_rate;                                 ///< the frames' [1/s]
+  bool fields;                                       ///< output.fields
+};
+
 /// The solid block.
 class SolidBlock : public Block
 {
 public:
   /// The solid on `mesh`; `eye`: the idealised eye (its frames).
-  SolidBlock(MeshSetup mesh, const Settings& settings, bool eye);
+  SolidBlock(MeshSetup mesh, SolidBlockSettings settings, bool eye);
 
   const MeshSetup mesh;
+  const SolidBlockSettings settings;
   solid::Problem problem;
-  const Settings& settings;
   const bool eye;
 
   // Block

@@ -296,7 +296,8 @@ const std::vector<std::array<const char*, 3>>& renamed()
       {"air.inlet_velocity", "inlet.velocity", ""},
       {"air.inlet_profile", "inlet.profile", " (\"plug\" is now \"uniform\")"},
       {"air.inlet_history", "inlet.history", ""},
-      {"boundary.surface_load", "boundary.press", ""}};
+      {"boundary.surface_load", "boundary.press", ""},
+      {"air.dt", "dynamics.dt", " (one time step for every dynamic phase)"}};
   return names;
 }
 

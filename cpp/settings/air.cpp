@@ -79,11 +79,6 @@ void visit(scene::Visitor& v, AirSettings& s)
             "mesh.source=eye,puff.load=air"},
            s.rigid_eye, {{"rigid", true}, {"none", false}});
   visit(v, s.fluid);
-  v.real({"air.dt", "0.25", "ms", 1e-5, 1e5,
-          "time step (halved when Newton fails, down to 2^-solver.max_step_cuts of it); the "
-          "coupled puff steps by dynamics.dt",
-          "puff.load=air"},
-         s.dt);
   v.integer({"air.bdf_order", "2", "", 1, 2,
              "order of the backward differentiation formula in time (the first step: 1)", flow},
             s.bdf_order);

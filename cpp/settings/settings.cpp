@@ -272,35 +272,37 @@ void read_table(const scene::Scene& scene, Errors& e, const std::string& key,
 }
 
 /// The puff's prescribed pressure and the measured pulse (a prescribed
-/// pulse's, the nozzle's history's): built, the files read.
-void build_puff(const scene::Scene& scene, Settings& s, Errors& e)
+/// pulse's, the nozzle's history's), a file mesh's inlet table: built, the
+/// files read.
+void build_puff(const scene::Scene& scene, const Settings& s, Built& built, Errors& e)
 {
-  PuffSettings& p = s.puff;
+  const PuffSettings& p = s.puff;
   const bool nozzle_pulse = s.mesh.eye() && (p.load == Load::air || p.load == Load::fsi)
                             && s.air.inlet.pulse;
   if (p.load == Load::pulse || nozzle_pulse)
-    p.pulse_shape = pulse_shape(scene, p, e);
+    built.pulse = pulse_shape(scene, p, e);
   if (p.load == Load::gaussian)
-    p.pressure = std::make_shared<puff::Gaussian>(p.peak, p.peak_time, p.width_t, p.width_r);
+    built.puff_pressure
+        = std::make_shared<puff::Gaussian>(p.peak, p.peak_time, p.width_t, p.width_r);
   if (p.load == Load::pulse)
     read_table(scene, e, "puff.profile", p.profile,
                "puff.load = \"pulse\" needs a CSV file (r_mm,p_mmHg)", [&](const auto& file) {
                  auto profile = puff::RadialProfile::read(file);
-                 if (p.pulse_shape)
-                   p.pressure
-                       = std::make_shared<puff::Pulse>(p.peak, *p.pulse_shape, std::move(profile));
+                 if (built.pulse)
+                   built.puff_pressure
+                       = std::make_shared<puff::Pulse>(p.peak, *built.pulse, std::move(profile));
                });
   if (p.load == Load::table)
     read_table(scene, e, "puff.table", p.table,
                "puff.load = \"table\" needs a CSV file (t_ms,r_mm,p_mmHg)",
                [&](const auto& file)
-               { p.pressure = std::make_shared<puff::Table>(puff::Table::read(file)); });
-  auto& in = s.air.inlet;
+               { built.puff_pressure = std::make_shared<puff::Table>(puff::Table::read(file)); });
+  const auto& in = s.air.inlet;
   if (!s.mesh.eye() && (p.load == Load::air || p.load == Load::fsi)
       && in.profile == InletSettings::Profile::table)
     read_table(scene, e, "inlet.table", in.table,
                "inlet.profile = \"table\" needs a CSV file (x_mm,y_mm,z_mm,u_m_s)",
-               [&](const auto& file) { in.points = air::Inlet::read_table(file); });
+               [&](const auto& file) { built.inlet_table = air::Inlet::read_table(file); });
 }
 
 /// A file mesh's dimension and extent against mesh.dimension: a section
@@ -431,14 +433,15 @@ void check_file_groups(const scene::Scene& scene, const Settings& s, const meshi
 
 /// The checks that need more than the keys: the eye's geometry and its
 /// air, a file mesh (opened, its groups against the scene). Collective.
-void check_meshes(MPI_Comm comm, const scene::Scene& scene, Settings& s, Errors& e)
+void check_meshes(MPI_Comm comm, const scene::Scene& scene, const Settings& s, Built& built,
+                  Errors& e)
 {
   const Load load = s.puff.load;
   if (s.mesh.eye())
   {
     try
     {
-      s.mesh.derived = eye::derive(s.mesh.geometry);
+      built.eye = eye::derive(s.mesh.geometry);
     }
     catch (const std::invalid_argument& x)
     {
@@ -449,7 +452,7 @@ void check_meshes(MPI_Comm comm, const scene::Scene& scene, Settings& s, Errors&
       try
       {
         const bool with_eye = load == Load::fsi || s.air.rigid_eye;
-        air::validate(s.air.domain, s.mesh.derived.apex_y, s.mesh.geometry.cut_y,
+        air::validate(s.air.domain, built.eye.apex_y, s.mesh.geometry.cut_y,
                       with_eye ? s.mesh.geometry.sclera_outer_radius : 0.0);
       }
       catch (const std::invalid_argument& x)
@@ -475,7 +478,7 @@ void check_meshes(MPI_Comm comm, const scene::Scene& scene, Settings& s, Errors&
       e.at(scene, "mesh.parameters." + name, "key 'mesh.parameters." + name + "': got '" + value
                                                  + "'; expected a finite number");
     else
-      s.mesh.numbers[name] = v;
+      built.geo_constants[name] = v;
   }
   for (const char* key : {"mesh.file", "mesh.size_max", "mesh.parameters"})
     if (e.refused(key))
@@ -488,14 +491,14 @@ void check_meshes(MPI_Comm comm, const scene::Scene& scene, Settings& s, Errors&
     return;
   try
   {
-    s.mesh.opened = std::make_shared<OpenMesh>(comm, s.mesh.file, s.mesh.numbers);
+    built.file_mesh = std::make_shared<OpenMesh>(comm, s.mesh.file, built.geo_constants);
   }
   catch (const std::runtime_error& x) // every rank: open() broadcasts its error
   {
     e.at(scene, "mesh.file", std::string("key 'mesh.file': ") + x.what());
     return;
   }
-  check_file_groups(scene, s, s.mesh.opened->groups(), e);
+  check_file_groups(scene, s, built.file_mesh->groups(), e);
 }
 
 } // namespace
@@ -532,6 +535,7 @@ void visit(scene::Visitor& v, Settings& s)
   v.tables("material", declared_parts,
            [&](const std::string& part) { solid::visit(v, s.materials[part], part); });
   visit(v, s.solid);
+  dynamics::visit(v, s.dynamics);
   visit(v, s.puff);
   visit(v, s.air);
   mesh_motion::visit(v, s.mesh_motion);
@@ -552,13 +556,14 @@ Input read(MPI_Comm comm, const std::filesystem::path& file,
   s.materials.erase("*"); // declared only
   s.solid.element.dimension = s.mesh.dimension;
   check_consistency(scene, s, errors);
-  build_puff(scene, s, errors);
-  check_meshes(comm, scene, s, errors);
+  Built built;
+  build_puff(scene, s, built, errors);
+  check_meshes(comm, scene, s, built, errors);
   errors.raise();
   if (dolfinx::MPI::rank(comm) == 0)
     for (const std::string& note : scene.notes())
       std::cerr << "note: " << note << "\n";
-  return {std::move(scene), std::move(s)};
+  return {std::move(scene), std::move(s), std::move(built)};
 }
 
 } // namespace nct

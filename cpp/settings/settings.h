@@ -15,6 +15,7 @@
 
 #include "air/domain.h"
 #include "air/problem.h"
+#include "dynamics/time_step.h"
 #include "eye/geometry.h"
 #include "mesh_motion/problem.h"
 #include "meshio/model.h"
@@ -70,11 +71,6 @@ struct MeshSettings
         interface;
   } boundary;
   bool eye() const { return source == Source::eye; }
-
-  // What the check found (not keys):
-  eye::Derived derived{};                    ///< the idealised eye's shape
-  std::map<std::string, double> numbers;     ///< the .geo's constants
-  std::shared_ptr<OpenMesh> opened;          ///< a file mesh, open
 };
 
 /// [support]: the fixed face clamped, or held by springs and dashpots
@@ -115,8 +111,8 @@ struct PressSettings
   double width;  ///< [mm]
 };
 
-/// The solid block: discretisation, support, cavities, press, time
-/// integration, the rest, the probes.
+/// The solid block: discretisation, support, cavities, press, the rest,
+/// the probes.
 struct SolidSettings
 {
   solid::Element element;
@@ -124,7 +120,6 @@ struct SolidSettings
   CavitySettings cavity;
   ZeroPressureSettings zero_pressure;
   PressSettings press;
-  solid::TimeStep dynamics;
   double rest_duration; ///< [ms]
   scene::Points probes; ///< output.probes [mm]
 };
@@ -156,10 +151,6 @@ struct PuffSettings
   double apex_window, radius_window, flatness; ///< [mm]
   /// The load is a pressure prescribed on the pressed surface.
   bool prescribed() const { return load == Load::gaussian || load == Load::pulse || load == Load::table; }
-
-  // What the check built (not keys):
-  std::shared_ptr<const puff::Load> pressure;   ///< the prescribed p(r, t) [mmHg]
-  std::optional<puff::PulseShape> pulse_shape; ///< the measured pulse's, where used
 };
 
 /// [inlet]: the air's inlet, the nozzle's bore on the eye or a file
@@ -180,9 +171,6 @@ struct InletSettings
   bool circle; ///< the parabolic section (else a rectangle)
   double half_width_1, half_width_2, radius; ///< [mm]
   double ramp_time;                          ///< [ms]
-
-  // What the check read (not keys):
-  std::vector<std::array<double, 4>> points; ///< the table's
 };
 
 /// [air]: the air block (puff.load = "air" or "fsi").
@@ -190,7 +178,6 @@ struct AirSettings
 {
   bool rigid_eye; ///< air.eye: the eye a rigid wall (else none, the free jet)
   air::Fluid fluid;
-  double dt; ///< [ms]
   int bdf_order;
   double output_interval; ///< [ms]
   air::Domain domain;     ///< the nozzle's air about the eye
@@ -235,6 +222,7 @@ struct Settings
   MeshSettings mesh;
   std::map<std::string, solid::Material> materials; ///< by part (volume group)
   SolidSettings solid;
+  dynamics::TimeStep dynamics;
   PuffSettings puff;
   AirSettings air;
   mesh_motion::Settings mesh_motion;
@@ -247,11 +235,27 @@ struct Settings
   std::vector<std::string> fluid_parts() const;
 };
 
-/// A scene read once and checked: its resolved file and its settings.
+/// What the check built beside the keys, for the model to take: the
+/// idealised eye's shape, a file mesh opened in gmsh (a file is opened
+/// once), the prescribed puff's pressure, the measured pulse's shape, a
+/// file mesh's inlet table.
+struct Built
+{
+  eye::Derived eye{};                              ///< the idealised eye's shape
+  std::map<std::string, double> geo_constants;     ///< a .geo's constants (mesh.parameters)
+  std::shared_ptr<OpenMesh> file_mesh;             ///< a file mesh, open
+  std::shared_ptr<const puff::Load> puff_pressure; ///< the prescribed p(r, t) [mmHg]
+  std::optional<puff::PulseShape> pulse;           ///< the measured pulse's shape, where used
+  std::vector<std::array<double, 4>> inlet_table;  ///< a file mesh's inlet: x, y, z [mm], u [m/s]
+};
+
+/// A scene read once and checked: its resolved file, its settings and what
+/// the check built.
 struct Input
 {
   scene::Scene scene;
   Settings settings;
+  Built built;
 };
 
 /// Read a scene file (with --set overrides), its settings and check them
@@ -284,6 +288,10 @@ void visit(scene::Visitor& v, Domain& d);
 namespace mesh_motion
 {
 void visit(scene::Visitor& v, Settings& s);
+}
+namespace dynamics
+{
+void visit(scene::Visitor& v, TimeStep& s);
 }
 namespace solid
 {

@@ -1,5 +1,5 @@
 // The solid block: [material.<part>], [fem], [support], [cavity],
-// [zero_pressure], [inflate], [press], [dynamics], [rest], output.probes.
+// [zero_pressure], [inflate], [press], [rest], output.probes.
 #include "settings/settings.h"
 
 #include <tuple>
@@ -212,18 +212,6 @@ void visit(scene::Visitor& v, SolidSettings& s)
   v.real({"press.width", "1.5", "mm", 1e-3, 1e3, "standard deviation of the gaussian profile",
           "press.profile=gaussian"},
          s.press.width);
-  // dynamic phases: the time integrator (forms/dynamics.py)
-  v.real({"dynamics.dt", "0.1", "ms", 1e-4, 1e5,
-          "time step of the rest and puff phases (halved when Newton fails, down to "
-          "2^-solver.max_step_cuts of it)"},
-         s.dynamics.dt);
-  v.real({"dynamics.rho_inf", "0.8", "", 0, 1,
-          "generalised-alpha spectral radius at infinite frequency: 1 keeps every mode (no "
-          "numerical dissipation), 0 damps the unresolved ones in one step"},
-         s.dynamics.rho_inf);
-  v.real({"dynamics.damping", "0.1", "1/ms", 0, 1e3,
-          "mass-proportional (Rayleigh) damping coefficient"},
-         s.dynamics.damping);
   // phase: rest (dynamic, loads held)
   v.real({"rest.duration", "0.0", "ms", 0, 1e3,
           "time the closed, inflated eye is followed before the puff with the loads held (it "

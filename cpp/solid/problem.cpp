@@ -39,22 +39,6 @@ namespace
 {
 using namespace dolfinx;
 
-/// The compiled kernels of forms/solid.py for one element and dimension.
-struct Kernels
-{
-  ufcx_form* R;
-  ufcx_form* J;
-  std::array<ufcx_form*, 2> volumes, cavity_loads, dvolumes, cavity_loads_dynamic;
-  ufcx_form* R_dynamic;
-  ufcx_form* J_dynamic;
-  ufcx_form* strain_energy;
-  ufcx_form* kinetic_energy;
-  ufcx_form* support_area;
-  ufcx_expression* von_mises;
-  ufcx_expression* det_F;
-  ufcx_function_space* (*space)(const char*);
-};
-
 #define NCT_SOLID_KERNELS(v)                                                     \
   Kernels{form_solid_##v##_R, form_solid_##v##_J,                                \
           {form_solid_##v##_volume_1, form_solid_##v##_volume_2},                 \
@@ -80,22 +64,6 @@ struct Kernels
     return e.reduced_quadrature ? NCT_SOLID_KERNELS(p2_reduced_mixed##d)        \
                                 : NCT_SOLID_KERNELS(p2_full_mixed##d);
 
-Kernels kernels(const Element& e)
-{
-  switch (e.dimension)
-  {
-  case section::Dimension::three:
-    NCT_SOLID_KERNELS_OF(e, )
-    break;
-  case section::Dimension::axisymmetric:
-    NCT_SOLID_KERNELS_OF(e, _axisymmetric)
-    break;
-  case section::Dimension::plane:
-    NCT_SOLID_KERNELS_OF(e, _plane)
-    break;
-  }
-  throw std::invalid_argument("the mixed formulation needs fem.degree = 2");
-}
 
 /// A facet group's name (its tag if it has none).
 std::string group_name(const meshio::Groups& groups, std::int32_t tag)
@@ -167,6 +135,39 @@ MatNullSpace rigid_body_modes(const fem::FunctionSpace& V, section::Dimension di
 
 } // namespace
 
+/// The compiled kernels of forms/solid.py for one element and dimension.
+struct Problem::Kernels
+{
+  ufcx_form* R;
+  ufcx_form* J;
+  std::array<ufcx_form*, 2> volumes, cavity_loads, dvolumes, cavity_loads_dynamic;
+  ufcx_form* R_dynamic;
+  ufcx_form* J_dynamic;
+  ufcx_form* strain_energy;
+  ufcx_form* kinetic_energy;
+  ufcx_form* support_area;
+  ufcx_expression* von_mises;
+  ufcx_expression* det_F;
+  ufcx_function_space* (*space)(const char*);
+};
+
+Problem::Kernels Problem::kernels(const Element& e)
+{
+  switch (e.dimension)
+  {
+  case section::Dimension::three:
+    NCT_SOLID_KERNELS_OF(e, )
+    break;
+  case section::Dimension::axisymmetric:
+    NCT_SOLID_KERNELS_OF(e, _axisymmetric)
+    break;
+  case section::Dimension::plane:
+    NCT_SOLID_KERNELS_OF(e, _plane)
+    break;
+  }
+  throw std::invalid_argument("the mixed formulation needs fem.degree = 2");
+}
+
 Problem::Problem(const meshio::Tagged& m, const Element& element,
                  const std::map<std::int32_t, std::string>& parts,
                  const std::map<std::string, Material>& materials,
@@ -176,7 +177,6 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
       _fibres(fibres)
 {
   const Kernels k = kernels(element);
-  const Kernels p1 = kernels(Element{1, false, false, element.dimension});
   const int gdim = section::mesh_dimension(_dimension);
   if (m.mesh->geometry().dim() != gdim)
     throw std::invalid_argument("a " + section::name(_dimension) + " model needs a mesh of "
@@ -184,6 +184,15 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
                                 + std::to_string(m.mesh->geometry().dim()));
   for (const ufcx_form* f : {k.R, k.J, k.R_dynamic, k.J_dynamic})
     _forms_signature += std::string(f->signature) + " ";
+  make_spaces(m, k, kernels(Element{1, false, false, element.dimension}));
+  tag_integrals(m, boundaries);
+  make_constants(volume_origin, boundaries);
+  const std::set<int> mirrors = make_boundary_conditions(m, boundaries);
+  make_forms(m, k, element, boundaries, mirrors);
+}
+
+void Problem::make_spaces(const meshio::Tagged& m, const Kernels& k, const Kernels& p1)
+{
   auto V = std::make_shared<fem::FunctionSpace>(
       fem::create_functionspace(k.space, "u", m.mesh));
   auto Q0 = std::make_shared<fem::FunctionSpace>(
@@ -202,12 +211,20 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
   press_profile->name = "press_profile";
   press_profile->x()->set(1.0);
   _profile_points = press_profile->function_space()->tabulate_dof_coordinates(false);
-  fields = cell_fields(*m.cells, parts, materials, fibres, _dimension, Q0, Q0v);
+  fields = cell_fields(*m.cells, _parts, _materials, _fibres, _dimension, Q0, Q0v);
+  _u_support = std::make_shared<fem::Function<double>>(V);
+  u_old = std::make_shared<fem::Function<double>>(V);
+  v_old = std::make_shared<fem::Function<double>>(V);
+  v_old->name = "velocity";
+  a_old = std::make_shared<fem::Function<double>>(V);
+}
 
-  // Integration tags: cells by law, facets by load.
+void Problem::tag_integrals(const meshio::Tagged& m, const Boundaries& boundaries)
+{
+  // Cells by law, facets by load.
   std::map<std::int32_t, std::int32_t> law_of_group, load_of_group;
-  for (auto& [group, part] : parts)
-    law_of_group[group] = static_cast<std::int32_t>(materials.at(part).law);
+  for (auto& [group, part] : _parts)
+    law_of_group[group] = static_cast<std::int32_t>(_materials.at(part).law);
   if (boundaries.cavities.size() > cavity_wall_tags.size())
     throw std::invalid_argument("at most two cavities");
   for (std::size_t c = 0; c < boundaries.cavities.size(); ++c)
@@ -221,7 +238,11 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
       meshio::retag(*m.cells, law_of_group));
   _load_tags = std::make_shared<mesh::MeshTags<std::int32_t>>(
       meshio::retag(*m.facets, load_of_group));
+}
 
+void Problem::make_constants(std::array<double, 3> volume_origin, const Boundaries& boundaries)
+{
+  const int gdim = section::mesh_dimension(_dimension);
   for (std::size_t c = 0; c < cavity_wall_tags.size(); ++c)
     _p_cavities.push_back(std::make_shared<fem::Constant<double>>(0.0));
   _p_press = std::make_shared<fem::Constant<double>>(0.0);
@@ -232,15 +253,79 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
   _support_damping = std::make_shared<fem::Constant<double>>(0.0);
   for (auto& lid : _lids)
     lid = std::make_shared<fem::Constant<double>>(0.0);
-  _u_support = std::make_shared<fem::Function<double>>(V);
-
-  u_old = std::make_shared<fem::Function<double>>(V);
-  v_old = std::make_shared<fem::Function<double>>(V);
-  v_old->name = "velocity";
-  a_old = std::make_shared<fem::Function<double>>(V);
   for (const char* name : {"dt", "alpha_m", "alpha_f", "beta", "gamma", "damping"})
     _time[name] = std::make_shared<fem::Constant<double>>(0.0);
+}
 
+std::set<int> Problem::make_boundary_conditions(const meshio::Tagged& m,
+                                                const Boundaries& boundaries)
+{
+  const auto V = u->function_space();
+  const int gdim = section::mesh_dimension(_dimension);
+  // Clamped groups, and one component per symmetry plane and on the axis.
+  auto facets_of = [&](std::int32_t g) { return m.facets->find(g); };
+  const int fdim = gdim - 1;
+  for (auto g : boundaries.fixed)
+  {
+    auto dofs = fem::locate_dofs_topological(*V, fdim, facets_of(g));
+    _bcs.push_back(std::make_shared<fem::DirichletBC<double>>(
+        std::vector<double>(gdim, 0.0), std::move(dofs), V));
+  }
+  std::set<int> mirrors; // the axes of the mirror planes
+  for (auto g : boundaries.symmetry)
+  {
+    // A group with no facets here is on a coupled fluid's side only.
+    std::int64_t count = static_cast<std::int64_t>(facets_of(g).size());
+    MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_INT64_T, MPI_SUM, m.mesh->comm());
+    if (count == 0)
+      continue;
+    int axis = meshio::normal_axis(*m.mesh, *m.facets, g);
+    if (axis < 0)
+    {
+      throw std::runtime_error("symmetry group '" + group_name(m.groups, g)
+                               + "' is not a plane x, y or z = const");
+    }
+    if (axis == 0 && _dimension == section::Dimension::axisymmetric)
+      throw std::runtime_error("a symmetry plane r = const of an axisymmetric section is not "
+                               "a mirror plane (the axis r = 0 is boundary.axis)");
+    // A mirror plane halves the model; a group on two planes of one axis
+    // (the faces of a slab) does not.
+    const auto [lo, hi] = meshio::coordinate_range(*m.mesh, *m.facets, g, axis);
+    if (hi - lo <= 1e-9 * std::max(1.0, std::abs(hi)))
+      mirrors.insert(axis);
+    auto Vi = V->sub({axis});
+    auto dofs = fem::locate_dofs_topological(*Vi, fdim, facets_of(g));
+    _symmetry_bcs.push_back(
+        std::make_shared<fem::DirichletBC<double>>(0.0, std::move(dofs), Vi));
+  }
+  for (auto g : boundaries.axis)
+  {
+    // A group with no facets here is on a coupled fluid's side only.
+    std::int64_t count = static_cast<std::int64_t>(facets_of(g).size());
+    MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_INT64_T, MPI_SUM, m.mesh->comm());
+    if (count == 0)
+      continue;
+    const auto [lo, hi] = meshio::coordinate_range(*m.mesh, *m.facets, g, 0);
+    if (std::max(std::abs(lo), std::abs(hi)) > 1e-9 * std::max(1.0, std::abs(hi)))
+      throw std::runtime_error("axis group '" + group_name(m.groups, g) + "' is not on r = 0 "
+                               "(its x runs from " + std::to_string(lo) + " to "
+                               + std::to_string(hi) + ")");
+    auto Vr = V->sub({0});
+    auto dofs = fem::locate_dofs_topological(*Vr, fdim, facets_of(g));
+    _symmetry_bcs.push_back(
+        std::make_shared<fem::DirichletBC<double>>(0.0, std::move(dofs), Vr));
+  }
+  _bcs.insert(_bcs.end(), _symmetry_bcs.begin(), _symmetry_bcs.end());
+  _symmetry_factor = (1 << mirrors.size())
+                     * (_dimension == section::Dimension::axisymmetric ? 2 * M_PI : 1.0);
+  return mirrors;
+}
+
+void Problem::make_forms(const meshio::Tagged& m, const Kernels& k, const Element& element,
+                         const Boundaries& boundaries, const std::set<int>& mirrors)
+{
+  const auto V = u->function_space();
+  const int gdim = section::mesh_dimension(_dimension);
   std::map<std::string, std::shared_ptr<const fem::Function<double>>> coeffs;
   coeffs["u"] = u;
   coeffs["u_old"] = u_old;
@@ -279,7 +364,7 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
       *k.strain_energy, {}, pick(*k.strain_energy), {}, subdomains, m.mesh));
   _kinetic_energy = std::make_shared<fem::Form<double>>(fem::create_form<double>(
       *k.kinetic_energy, {}, pick(*k.kinetic_energy), {}, subdomains, m.mesh));
-  if (std::any_of(materials.begin(), materials.end(),
+  if (std::any_of(_materials.begin(), _materials.end(),
                   [](const auto& m) { return !m.second.relative_moduli.empty(); }))
     _viscoelasticity = std::make_unique<Viscoelasticity>(element, coeffs, constants, *_law_tags);
   for (std::size_t c = 0; c < boundaries.cavities.size(); ++c)
@@ -313,72 +398,14 @@ Problem::Problem(const meshio::Tagged& m, const Element& element,
   _det_F = std::make_shared<fem::Expression<double>>(
       fem::create_expression<double>(*k.det_F, coeffs, {}, m.mesh));
 
-  // Dirichlet conditions: clamped groups, and one component per symmetry
-  // plane and on the axis.
-  auto facets_of = [&](std::int32_t g) { return m.facets->find(g); };
-  const int fdim = gdim - 1;
-  for (auto g : boundaries.fixed)
-  {
-    auto dofs = fem::locate_dofs_topological(*V, fdim, facets_of(g));
-    _bcs.push_back(std::make_shared<fem::DirichletBC<double>>(
-        std::vector<double>(gdim, 0.0), std::move(dofs), V));
-  }
-  std::set<int> axes;
-  for (auto g : boundaries.symmetry)
-  {
-    // A group with no facets here is on a coupled fluid's side only.
-    std::int64_t count = static_cast<std::int64_t>(facets_of(g).size());
-    MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_INT64_T, MPI_SUM, m.mesh->comm());
-    if (count == 0)
-      continue;
-    int axis = meshio::normal_axis(*m.mesh, *m.facets, g);
-    if (axis < 0)
-    {
-      throw std::runtime_error("symmetry group '" + group_name(m.groups, g)
-                               + "' is not a plane x, y or z = const");
-    }
-    if (axis == 0 && _dimension == section::Dimension::axisymmetric)
-      throw std::runtime_error("a symmetry plane r = const of an axisymmetric section is not "
-                               "a mirror plane (the axis r = 0 is boundary.axis)");
-    // A mirror plane halves the model; a group on two planes of one axis
-    // (the faces of a slab) does not.
-    const auto [lo, hi] = meshio::coordinate_range(*m.mesh, *m.facets, g, axis);
-    if (hi - lo <= 1e-9 * std::max(1.0, std::abs(hi)))
-      axes.insert(axis);
-    auto Vi = V->sub({axis});
-    auto dofs = fem::locate_dofs_topological(*Vi, fdim, facets_of(g));
-    _symmetry_bcs.push_back(
-        std::make_shared<fem::DirichletBC<double>>(0.0, std::move(dofs), Vi));
-  }
-  for (auto g : boundaries.axis)
-  {
-    // A group with no facets here is on a coupled fluid's side only.
-    std::int64_t count = static_cast<std::int64_t>(facets_of(g).size());
-    MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_INT64_T, MPI_SUM, m.mesh->comm());
-    if (count == 0)
-      continue;
-    const auto [lo, hi] = meshio::coordinate_range(*m.mesh, *m.facets, g, 0);
-    if (std::max(std::abs(lo), std::abs(hi)) > 1e-9 * std::max(1.0, std::abs(hi)))
-      throw std::runtime_error("axis group '" + group_name(m.groups, g) + "' is not on r = 0 "
-                               "(its x runs from " + std::to_string(lo) + " to "
-                               + std::to_string(hi) + ")");
-    auto Vr = V->sub({0});
-    auto dofs = fem::locate_dofs_topological(*Vr, fdim, facets_of(g));
-    _symmetry_bcs.push_back(
-        std::make_shared<fem::DirichletBC<double>>(0.0, std::move(dofs), Vr));
-  }
-  _bcs.insert(_bcs.end(), _symmetry_bcs.begin(), _symmetry_bcs.end());
-  _symmetry_factor = (1 << axes.size())
-                     * (_dimension == section::Dimension::axisymmetric ? 2 * M_PI : 1.0);
-
   if (boundaries.humor_density && !boundaries.cavities.empty())
   {
     // The humors move along the axes no mirror plane holds (an
     // axisymmetric section: along its axis only).
     std::vector<int> components;
-    for (int k = 0; k < gdim; ++k)
-      if (_dimension == section::Dimension::axisymmetric ? k == 1 : !axes.count(k))
-        components.push_back(k);
+    for (int i = 0; i < gdim; ++i)
+      if (_dimension == section::Dimension::axisymmetric ? i == 1 : !mirrors.count(i))
+        components.push_back(i);
     _humor_inertia = std::make_unique<HumorInertia>(element, u, constants, *_load_tags,
                                                     boundaries.cavities.size(), components,
                                                     *boundaries.humor_density);
@@ -474,7 +501,7 @@ void Problem::volume_derivative(std::size_t c, la::Vector<double>& b)
   b.scatter_rev(std::plus<double>());
 }
 
-void Problem::set_time_step(const TimeStep& step)
+void Problem::set_time_step(const dynamics::TimeStep& step)
 {
   // forms/dynamics.py: the parameters from the spectral radius rho_inf.
   const double r = step.rho_inf;
@@ -487,7 +514,7 @@ void Problem::set_time_step(const TimeStep& step)
   _time["damping"]->value = {step.damping};
 }
 
-void Problem::start_dynamics(const TimeStep& step)
+void Problem::start_dynamics(const dynamics::TimeStep& step)
 {
   if (_support && !_dynamic)
   {
@@ -556,7 +583,7 @@ void Problem::save(io::CheckpointWriter& checkpoint) const
   }
 }
 
-void Problem::restore(const io::CheckpointReader& checkpoint, const std::optional<TimeStep>& step)
+void Problem::restore(const io::CheckpointReader& checkpoint, const std::optional<dynamics::TimeStep>& step)
 {
   auto mesh = std::const_pointer_cast<mesh::Mesh>(u->function_space()->mesh());
   checkpoint.read_geometry("solid/geometry", *mesh);
@@ -752,7 +779,7 @@ Problem::displacement_at(const std::vector<std::array<double, 3>>& points) const
 
 void Problem::update_von_mises() { von_mises->interpolate(*_von_mises); }
 
-Problem::Place Problem::place(std::int32_t cell, double value) const
+Problem::Place Problem::at_cell(std::int32_t cell, double value) const
 {
   const auto& mesh = *u->function_space()->mesh();
   auto nodes = mesh.geometry().dofmap().links(cell);
@@ -816,7 +843,7 @@ Problem::Place Problem::smallest_jacobian() const
         worst = c;
       }
     }
-  return gather(worst < 0 ? Place{smallest, {0, 0, 0}, ""} : place(worst, smallest));
+  return gather(worst < 0 ? Place{smallest, {0, 0, 0}, ""} : at_cell(worst, smallest));
 }
 
 Problem::Place Problem::largest_residual(const la::Vector<double>& b) const

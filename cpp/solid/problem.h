@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include <dolfinx/la/Vector.h>
 #include <dolfinx/la/petsc.h>
 
+#include "dynamics/time_step.h"
 #include "io/checkpoint.h"
 #include "meshio/model.h"
 #include "section/section.h"
@@ -54,14 +56,6 @@ struct Boundaries
   /// The humors' density [g/mm^3] when their mass is modelled in the
   /// dynamics (forms/humor_inertia.py); none: massless.
   std::optional<double> humor_density;
-};
-
-/// A time step of the generalised-alpha scheme (forms/dynamics.py).
-struct TimeStep
-{
-  double dt = 0.1;      ///< [ms]
-  double rho_inf = 0.8; ///< spectral radius at infinite frequency, in [0, 1]
-  double damping = 0;   ///< mass-proportional damping [1/ms]
 };
 
 /// The discretisation of the solid.
@@ -119,16 +113,16 @@ public:
   /// Switch to dynamics from rest at the current u (v = a = 0). With a
   /// support, its springs and dashpots replace the clamp, which leaves
   /// them its reaction as a dead load: the rest stays at rest.
-  void start_dynamics(const TimeStep& step);
+  void start_dynamics(const dynamics::TimeStep& step);
   /// The state a checkpoint holds under "solid/": the reference geometry
   /// (zero pressure moves it), u, and in dynamics the last step's u, v, a
   /// and the support's state. Collective.
   void save(io::CheckpointWriter& checkpoint) const;
   /// Read that state back; in dynamics (`step` given) switch to them as
   /// start_dynamics() does, but with the checkpoint's motion.
-  void restore(const io::CheckpointReader& checkpoint, const std::optional<TimeStep>& step);
+  void restore(const io::CheckpointReader& checkpoint, const std::optional<dynamics::TimeStep>& step);
   /// Change the time step (dynamics only).
-  void set_time_step(const TimeStep& step);
+  void set_time_step(const dynamics::TimeStep& step);
   /// After a converged step: a and v from the Newmark updates, then the
   /// new state becomes the old one.
   void advance();
@@ -222,6 +216,24 @@ public:
   const std::string& forms_signature() const { return _forms_signature; }
 
 private:
+  /// The compiled kernels of forms/solid.py for one element and dimension.
+  struct Kernels;
+  static Kernels kernels(const Element& e);
+  // The constructor's steps, in order.
+  /// The displacement's and the materials' spaces, the state's functions.
+  void make_spaces(const meshio::Tagged& m, const Kernels& k, const Kernels& p1);
+  /// The integration tags: cells by law, facets by load (forms/solid.py).
+  void tag_integrals(const meshio::Tagged& m, const Boundaries& boundaries);
+  /// The constants the forms name: loads, the cut's origin and lids, the
+  /// support's springs, the time step's parameters.
+  void make_constants(std::array<double, 3> volume_origin, const Boundaries& boundaries);
+  /// The clamp, the symmetry planes' and the axis' conditions, the
+  /// whole-model factor; returns the axes of the mirror planes.
+  std::set<int> make_boundary_conditions(const meshio::Tagged& m, const Boundaries& boundaries);
+  /// Every form and expression, the viscoelasticity and the humors'
+  /// inertia where the scene has them.
+  void make_forms(const meshio::Tagged& m, const Kernels& k, const Element& element,
+                  const Boundaries& boundaries, const std::set<int>& mirrors);
   /// The support's springs and dashpots in place of the clamp (dynamics).
   void release_support();
   /// Scalar forms summed over the ranks, times the whole-model factor.
@@ -242,8 +254,8 @@ private:
   std::vector<std::shared_ptr<dolfinx::fem::Form<double>>> _volumes, _cavity_loads,
       _dvolumes, _cavity_loads_dynamic;
   std::shared_ptr<dolfinx::fem::Expression<double>> _von_mises, _det_F;
-  /// A local cell's place, with `value`.
-  Place place(std::int32_t cell, double value) const;
+  /// `value` at a local cell: its reference centroid and part.
+  Place at_cell(std::int32_t cell, double value) const;
   /// Of every rank's place, the one with the smallest value, on every rank.
   Place gather(const Place& local) const;
   std::vector<std::shared_ptr<dolfinx::fem::Constant<double>>> _p_cavities;
