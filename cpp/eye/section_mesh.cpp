@@ -1,0 +1,227 @@
+// The idealised eye's meridian section: the 3D eye's layered shell (and
+// diaphragm) swept on a 1D chart into rows of triangles.
+#include "eye/geometry.h"
+#include "eye/mesh_helpers.h"
+#include "eye/shape.h"
+
+#include <gmsh.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace nct::eye
+{
+
+using namespace detail;
+
+namespace
+{
+
+/// The nodes of a 1D chart on [0, bounds.back()]: uniform within each
+/// piece between consecutive bounds, at the piece's size `size(a, b)`.
+std::vector<double> chart_nodes(const std::vector<double>& bounds,
+                                const std::function<double(double, double)>& size)
+{
+  std::vector<double> chart{bounds.front()};
+  for (std::size_t i = 0; i + 1 < bounds.size(); ++i) {
+    const double a = bounds[i], b = bounds[i + 1];
+    const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil((b - a) / size(a, b) - 1e-9)));
+    for (std::size_t j = 1; j <= n; ++j)
+      chart.push_back(j == n ? b : a + (b - a) * double(j) / double(n));
+  }
+  return chart;
+}
+
+/// Writes the eye's section into a new gmsh model "eye": the nodes, the
+/// triangles by part (3 parts, or all with the internal structures) and
+/// the boundary segments by group.
+void write_section(const std::vector<std::size_t>& tags, const std::vector<double>& coords,
+                   const std::array<std::vector<std::size_t>, part_count>& triangles,
+                   const std::array<std::vector<std::size_t>, group_count>& segments,
+                   bool internal_structures)
+{
+  gmsh::model::add("eye");
+  gmsh::model::addDiscreteEntity(2, 1);
+  gmsh::model::mesh::addNodes(2, 1, tags, coords);
+  std::size_t next = 1;
+  for (int p = 1; p <= (internal_structures ? part_count : 3); ++p) {
+    if (p > 1)
+      gmsh::model::addDiscreteEntity(2, p);
+    add_elements(next, p, 2, triangles[p - 1], 3);
+    gmsh::model::addPhysicalGroup(2, {p}, p);
+    gmsh::model::setPhysicalName(2, p, part_names[p - 1]);
+  }
+  std::vector<std::pair<Group, const char*>> groups{
+      {Group::anterior_cornea, "anterior_cornea"}, {Group::anterior_sclera, "anterior_sclera"},
+      {Group::symmetry_x, "axis"}, {Group::fixed, "fixed"}};
+  if (internal_structures)
+    groups.insert(groups.end(), {{Group::aqueous_wall, "aqueous_wall"},
+                                 {Group::vitreous_wall, "vitreous_wall"}});
+  else
+    groups.emplace_back(Group::cavity_wall, "cavity_wall");
+  for (auto [group, name] : groups) {
+    const int g = static_cast<int>(group);
+    gmsh::model::addDiscreteEntity(1, g);
+    add_elements(next, g, 1, segments[g - 1], 2);
+    gmsh::model::addPhysicalGroup(1, {g}, g);
+    gmsh::model::setPhysicalName(1, g, name);
+  }
+}
+
+/// Meshes the eye's meridian section (r, y) as the current gmsh model
+/// "eye" (build_section()): the shell's sweep X(s, t) of the 3D eye on a
+/// 1D chart in s, each (s, t) quadrilateral split into two triangles;
+/// with the internal structures, the diaphragm's sweep on its chart in
+/// rho likewise, its layers meeting the shell's posterior node at the
+/// zonule ring (the 3D eye's ring arc, here a point).
+void build_eye_section(const Layout& e, const Refinement& ref)
+{
+  const Diaphragm& dia = e.diaphragm;
+  const std::size_t nl = static_cast<std::size_t>(ref.layers);
+  // The chart: nodes in s, uniform within each piece between the part
+  // bounds, the junction and the zonule ring, at the piece's part's size.
+  std::vector<double> bounds{0, e.limbus_begin, e.anterior.junction_s(), e.limbus_end,
+                             e.anterior.length()};
+  if (dia.on) {
+    const double tol = 1e-9 * e.anterior.length();
+    if (std::none_of(bounds.begin(), bounds.end(),
+                     [&](double b) { return std::abs(b - dia.ring_s) < tol; }))
+      bounds.insert(std::upper_bound(bounds.begin(), bounds.end(), dia.ring_s), dia.ring_s);
+  }
+  const auto part_at = [&](double s) {
+    return s < e.limbus_begin ? Part::cornea : s < e.limbus_end ? Part::limbus : Part::sclera;
+  };
+  const auto size_of = [&](Part p) {
+    return p == Part::cornea ? ref.size_cornea : p == Part::limbus ? ref.size_limbus
+                                                                   : ref.size_sclera;
+  };
+  const std::vector<double> chart
+      = chart_nodes(bounds, [&](double a, double b) { return size_of(part_at((a + b) / 2)); });
+  const std::size_t nc = chart.size();
+  std::size_t ring = nc;
+  if (dia.on)
+    ring = static_cast<std::size_t>(
+        std::min_element(chart.begin(), chart.end(),
+                         [&](double a, double b) {
+                           return std::abs(a - dia.ring_s) < std::abs(b - dia.ring_s);
+                         })
+        - chart.begin());
+
+  // Nodes: tag k nc + j + 1 for chart node j on layer k (k = 0 anterior).
+  std::vector<double> coords;
+  std::vector<std::size_t> tags;
+  for (std::size_t k = 0; k <= nl; ++k)
+    for (std::size_t j = 0; j < nc; ++j) {
+      const Meridian a = e.anterior.at(chart[j]), p = e.posterior.at(e.matched(chart[j]));
+      const double t = double(k) / double(nl);
+      // The axis exactly: r = 0 at the apex on every layer.
+      coords.insert(coords.end(), {j == 0 ? 0.0 : a.r + t * (p.r - a.r), a.y + t * (p.y - a.y),
+                                   0.0});
+      tags.push_back(k * nc + j + 1);
+    }
+  const auto node = [nc](std::size_t k, std::size_t j) { return k * nc + j + 1; };
+
+  // Triangles by part, counter-clockwise in (r, y); boundary segments by
+  // group, in the solid's counter-clockwise sense. s (and rho) run
+  // outwards along the profile (clockwise in (r, y)), t inwards.
+  std::array<std::vector<std::size_t>, part_count> triangles;
+  std::array<std::vector<std::size_t>, group_count> segments;
+  const auto add_segment = [&](Group g, std::size_t a, std::size_t b) {
+    auto& list = segments[static_cast<int>(g) - 1];
+    list.insert(list.end(), {a, b});
+  };
+  // The quadrilateral (a, b, c, d) of a sweep: a, b on layer k; d, c on k + 1.
+  const auto add_cell = [&](Part part, std::size_t a, std::size_t b, std::size_t c,
+                            std::size_t d) {
+    auto& cells = triangles[static_cast<int>(part) - 1];
+    cells.insert(cells.end(), {a, d, b});
+    if (b != c)
+      cells.insert(cells.end(), {b, d, c});
+  };
+  for (std::size_t j = 0; j + 1 < nc; ++j) {
+    const Part part = part_at((chart[j] + chart[j + 1]) / 2);
+    for (std::size_t k = 0; k < nl; ++k)
+      add_cell(part, node(k, j), node(k, j + 1), node(k + 1, j + 1), node(k + 1, j));
+    add_segment(part == Part::cornea ? Group::anterior_cornea : Group::anterior_sclera,
+                node(0, j + 1), node(0, j));
+    add_segment(!dia.on ? Group::cavity_wall
+                : j < ring ? Group::aqueous_wall
+                           : Group::vitreous_wall,
+                node(nl, j), node(nl, j + 1));
+  }
+  for (std::size_t k = 0; k < nl; ++k) {
+    add_segment(Group::symmetry_x, node(k, 0), node(k + 1, 0));
+    add_segment(Group::fixed, node(k + 1, nc - 1), node(k, nc - 1));
+  }
+
+  if (dia.on) {
+    // The diaphragm's chart in rho: the nucleus' bound, the lens equator,
+    // the ring; size_lens in the lens, along the band the mean of it and
+    // the shell's spacing at the ring. Its last node is the ring: the
+    // shell's posterior node there, on every layer.
+    const double ring_h = std::max(chart[ring] - chart[ring - 1],
+                                   ring + 1 < nc ? chart[ring + 1] - chart[ring] : 0.0);
+    const std::vector<double> rho = chart_nodes(
+        {0, dia.rho_nucleus, dia.lens_r, dia.rho_max},
+        [&](double a, double) { return a < dia.lens_r ? ref.size_lens : (ref.size_lens + ring_h) / 2; });
+    const std::size_t nd = rho.size(), base = (nl + 1) * nc;
+    const auto dnode = [&](std::size_t k, std::size_t v) {
+      return v + 1 == nd ? node(nl, ring) : base + k * (nd - 1) + v + 1;
+    };
+    for (std::size_t k = 0; k <= nl; ++k)
+      for (std::size_t v = 0; v + 1 < nd; ++v) {
+        const Meridian a = dia.anterior(rho[v]), p = dia.posterior(rho[v]);
+        const double t = double(k) / double(nl);
+        coords.insert(coords.end(), {v == 0 ? 0.0 : a.r + t * (p.r - a.r), a.y + t * (p.y - a.y),
+                                     0.0});
+        tags.push_back(dnode(k, v));
+      }
+    const std::size_t quarter = nl / 4;
+    for (std::size_t v = 0; v + 1 < nd; ++v) {
+      const double mid = (rho[v] + rho[v + 1]) / 2;
+      for (std::size_t k = 0; k < nl; ++k) {
+        const Part part = mid < dia.rho_nucleus && k >= quarter && k < nl - quarter
+                              ? Part::lens_nucleus
+                          : mid < dia.lens_r              ? Part::lens_cortex
+                          : nl > 1 && k + 1 == nl ? Part::vitreous_membrane
+                                                  : Part::zonule;
+        add_cell(part, dnode(k, v), dnode(k, v + 1), dnode(k + 1, v + 1), dnode(k + 1, v));
+      }
+      add_segment(Group::aqueous_wall, dnode(0, v + 1), dnode(0, v));
+      add_segment(Group::vitreous_wall, dnode(nl, v), dnode(nl, v + 1));
+    }
+    for (std::size_t k = 0; k < nl; ++k)
+      add_segment(Group::symmetry_x, dnode(k, 0), dnode(k + 1, 0));
+  }
+
+  write_section(tags, coords, triangles, segments, dia.on);
+}
+
+} // namespace
+
+void build_section(const Geometry& g, const Refinement& r)
+{
+  if (r.layers < 1)
+    reject("mesh.layers", r.layers, "must be >= 1");
+  for (auto [key, h] : {std::pair{"mesh.size_cornea", r.size_cornea},
+                        {"mesh.size_limbus", r.size_limbus}, {"mesh.size_sclera", r.size_sclera}})
+    if (!(h > 0))
+      reject(key, h, "must be > 0");
+  if (g.internal_structures && !(r.size_lens > 0))
+    reject("mesh.size_lens", r.size_lens, "must be > 0");
+  const Layout e = layout(g);
+  try {
+    build_eye_section(e, r);
+  } catch (const std::string& message) { // gmsh 4.8 throws its last error as a string
+    throw std::runtime_error("nct::eye::build_section: gmsh failed: " + message);
+  }
+}
+
+} // namespace nct::eye
