@@ -323,13 +323,8 @@ void build_eye(const Layout& e, const Refinement& ref)
   shell_spec.fixed_outer = true;
   if (dia.on) {
     // The ring arc, merged with an existing one it (nearly) coincides with.
-    auto& radii = shell_spec.radii;
-    const double tol = 1e-9 * e.anterior.length();
-    auto it = std::find_if(radii.begin(), radii.end(),
-                           [&](double r) { return std::abs(r - dia.ring_s) < tol; });
-    if (it == radii.end())
-      it = radii.insert(std::upper_bound(radii.begin(), radii.end(), dia.ring_s), dia.ring_s);
-    shell_spec.ring_arc = static_cast<int>(it - radii.begin());
+    shell_spec.ring_arc = static_cast<int>(
+        insert_bound(shell_spec.radii, dia.ring_s, 1e-9 * e.anterior.length()));
     const double chart_arc = std::numbers::pi / 2 * dia.ring_s;
     shell_spec.ring_points =
         1 + std::max(2, static_cast<int>(std::ceil(chart_arc / shell_spec.size(dia.ring_s))));
@@ -338,9 +333,7 @@ void build_eye(const Layout& e, const Refinement& ref)
   std::vector<Part> shell_part;
   for (std::size_t i = 0; i < shell_spec.radii.size(); ++i) {
     const double lo = i > 0 ? shell_spec.radii[i - 1] : 0, mid = (lo + shell_spec.radii[i]) / 2;
-    shell_part.push_back(mid < e.limbus_begin ? Part::cornea
-                         : mid < e.limbus_end ? Part::limbus
-                                              : Part::sclera);
+    shell_part.push_back(e.part_at(mid));
   }
 
   // Shell nodes: tag k nc + v + 1 for chart node v on layer k.
@@ -352,8 +345,7 @@ void build_eye(const Layout& e, const Refinement& ref)
     const Meridian p = e.posterior.at(e.matched(shell.s[v]));
     for (std::size_t k = 0; k <= nl; ++k) {
       const double t = double(k) / double(nl);
-      mesh.x[k * nc + v] = place({a.r + t * (p.r - a.r), a.y + t * (p.y - a.y)},
-                                 shell.cos_phi[v], shell.sin_phi[v]);
+      mesh.x[k * nc + v] = place(between(a, p, t), shell.cos_phi[v], shell.sin_phi[v]);
     }
   }
   mesh.owner.assign(mesh.x.size(), part_count + 1);
@@ -362,12 +354,8 @@ void build_eye(const Layout& e, const Refinement& ref)
                    [&](std::size_t i, std::size_t) { return shell_part[shell.annulus[i]]; },
                    [&](std::size_t i, bool posterior) {
                      if (!posterior)
-                       return shell_part[shell.annulus[i]] == Part::cornea ? Group::anterior_cornea
-                                                                           : Group::anterior_sclera;
-                     if (!dia.on)
-                       return Group::cavity_wall;
-                     return shell.annulus[i] <= shell_spec.ring_arc ? Group::aqueous_wall
-                                                                    : Group::vitreous_wall;
+                       return anterior_group(shell_part[shell.annulus[i]]);
+                     return inner_group(dia.on, shell.annulus[i] <= shell_spec.ring_arc);
                    }});
 
   if (dia.on) {
@@ -405,11 +393,10 @@ void build_eye(const Layout& e, const Refinement& ref)
       const Meridian a = dia.anterior(chart.s[v]), p = dia.posterior(chart.s[v]);
       for (std::size_t k = 0; k <= nl; ++k) {
         const double t = double(k) / double(nl);
-        mesh.x[base + k * nf + free_index[v]] = place(
-            {a.r + t * (p.r - a.r), a.y + t * (p.y - a.y)}, chart.cos_phi[v], chart.sin_phi[v]);
+        mesh.x[base + k * nf + free_index[v]]
+            = place(between(a, p, t), chart.cos_phi[v], chart.sin_phi[v]);
       }
     }
-    const std::size_t quarter = nl / 4;
     sweep(mesh,
           Body{chart, nl,
                [&](std::size_t k, std::size_t v) {
@@ -417,14 +404,7 @@ void build_eye(const Layout& e, const Refinement& ref)
                                                       : base + k * nf + free_index[v] + 1;
                },
                [&](std::size_t v) { return ring_of[v] != std::size_t(-1); },
-               [&](std::size_t i, std::size_t k) {
-                 const int annulus = chart.annulus[i];
-                 if (annulus == 2)
-                   return nl > 1 && k + 1 == nl ? Part::vitreous_membrane : Part::zonule;
-                 if (annulus == 0 && k >= quarter && k < nl - quarter)
-                   return Part::lens_nucleus;
-                 return Part::lens_cortex;
-               },
+               [&](std::size_t i, std::size_t k) { return diaphragm_part(chart.annulus[i], k, nl); },
                [](std::size_t, bool posterior) {
                  return posterior ? Group::vitreous_wall : Group::aqueous_wall;
                }});
@@ -468,16 +448,7 @@ void build_eye(const Layout& e, const Refinement& ref)
 
 void build(const Geometry& g, const Refinement& r)
 {
-  if (r.layers < 1)
-    reject("mesh.layers", r.layers, "must be >= 1");
-  if (!(r.size_cornea > 0))
-    reject("mesh.size_cornea", r.size_cornea, "must be > 0");
-  if (!(r.size_limbus > 0))
-    reject("mesh.size_limbus", r.size_limbus, "must be > 0");
-  if (!(r.size_sclera > 0))
-    reject("mesh.size_sclera", r.size_sclera, "must be > 0");
-  if (g.internal_structures && !(r.size_lens > 0))
-    reject("mesh.size_lens", r.size_lens, "must be > 0");
+  check_refinement(g, r);
   const Layout e = layout(g);
   try {
     OptionGuard quiet;

@@ -89,21 +89,14 @@ void build_eye_section(const Layout& e, const Refinement& ref)
   // bounds, the junction and the zonule ring, at the piece's part's size.
   std::vector<double> bounds{0, e.limbus_begin, e.anterior.junction_s(), e.limbus_end,
                              e.anterior.length()};
-  if (dia.on) {
-    const double tol = 1e-9 * e.anterior.length();
-    if (std::none_of(bounds.begin(), bounds.end(),
-                     [&](double b) { return std::abs(b - dia.ring_s) < tol; }))
-      bounds.insert(std::upper_bound(bounds.begin(), bounds.end(), dia.ring_s), dia.ring_s);
-  }
-  const auto part_at = [&](double s) {
-    return s < e.limbus_begin ? Part::cornea : s < e.limbus_end ? Part::limbus : Part::sclera;
-  };
+  if (dia.on)
+    insert_bound(bounds, dia.ring_s, 1e-9 * e.anterior.length());
   const auto size_of = [&](Part p) {
     return p == Part::cornea ? ref.size_cornea : p == Part::limbus ? ref.size_limbus
                                                                    : ref.size_sclera;
   };
   const std::vector<double> chart
-      = chart_nodes(bounds, [&](double a, double b) { return size_of(part_at((a + b) / 2)); });
+      = chart_nodes(bounds, [&](double a, double b) { return size_of(e.part_at((a + b) / 2)); });
   const std::size_t nc = chart.size();
   std::size_t ring = nc;
   if (dia.on)
@@ -120,10 +113,9 @@ void build_eye_section(const Layout& e, const Refinement& ref)
   for (std::size_t k = 0; k <= nl; ++k)
     for (std::size_t j = 0; j < nc; ++j) {
       const Meridian a = e.anterior.at(chart[j]), p = e.posterior.at(e.matched(chart[j]));
-      const double t = double(k) / double(nl);
+      const Meridian x = between(a, p, double(k) / double(nl));
       // The axis exactly: r = 0 at the apex on every layer.
-      coords.insert(coords.end(), {j == 0 ? 0.0 : a.r + t * (p.r - a.r), a.y + t * (p.y - a.y),
-                                   0.0});
+      coords.insert(coords.end(), {j == 0 ? 0.0 : x.r, x.y, 0.0});
       tags.push_back(k * nc + j + 1);
     }
   const auto node = [nc](std::size_t k, std::size_t j) { return k * nc + j + 1; };
@@ -146,15 +138,11 @@ void build_eye_section(const Layout& e, const Refinement& ref)
       cells.insert(cells.end(), {b, d, c});
   };
   for (std::size_t j = 0; j + 1 < nc; ++j) {
-    const Part part = part_at((chart[j] + chart[j + 1]) / 2);
+    const Part part = e.part_at((chart[j] + chart[j + 1]) / 2);
     for (std::size_t k = 0; k < nl; ++k)
       add_cell(part, node(k, j), node(k, j + 1), node(k + 1, j + 1), node(k + 1, j));
-    add_segment(part == Part::cornea ? Group::anterior_cornea : Group::anterior_sclera,
-                node(0, j + 1), node(0, j));
-    add_segment(!dia.on ? Group::cavity_wall
-                : j < ring ? Group::aqueous_wall
-                           : Group::vitreous_wall,
-                node(nl, j), node(nl, j + 1));
+    add_segment(anterior_group(part), node(0, j + 1), node(0, j));
+    add_segment(inner_group(dia.on, j < ring), node(nl, j), node(nl, j + 1));
   }
   for (std::size_t k = 0; k < nl; ++k) {
     add_segment(Group::symmetry_x, node(k, 0), node(k + 1, 0));
@@ -177,23 +165,17 @@ void build_eye_section(const Layout& e, const Refinement& ref)
     };
     for (std::size_t k = 0; k <= nl; ++k)
       for (std::size_t v = 0; v + 1 < nd; ++v) {
-        const Meridian a = dia.anterior(rho[v]), p = dia.posterior(rho[v]);
-        const double t = double(k) / double(nl);
-        coords.insert(coords.end(), {v == 0 ? 0.0 : a.r + t * (p.r - a.r), a.y + t * (p.y - a.y),
-                                     0.0});
+        const Meridian x
+            = between(dia.anterior(rho[v]), dia.posterior(rho[v]), double(k) / double(nl));
+        coords.insert(coords.end(), {v == 0 ? 0.0 : x.r, x.y, 0.0});
         tags.push_back(dnode(k, v));
       }
-    const std::size_t quarter = nl / 4;
     for (std::size_t v = 0; v + 1 < nd; ++v) {
       const double mid = (rho[v] + rho[v + 1]) / 2;
-      for (std::size_t k = 0; k < nl; ++k) {
-        const Part part = mid < dia.rho_nucleus && k >= quarter && k < nl - quarter
-                              ? Part::lens_nucleus
-                          : mid < dia.lens_r              ? Part::lens_cortex
-                          : nl > 1 && k + 1 == nl ? Part::vitreous_membrane
-                                                  : Part::zonule;
-        add_cell(part, dnode(k, v), dnode(k, v + 1), dnode(k + 1, v + 1), dnode(k + 1, v));
-      }
+      const int annulus = mid < dia.rho_nucleus ? 0 : mid < dia.lens_r ? 1 : 2;
+      for (std::size_t k = 0; k < nl; ++k)
+        add_cell(diaphragm_part(annulus, k, nl), dnode(k, v), dnode(k, v + 1), dnode(k + 1, v + 1),
+                 dnode(k + 1, v));
       add_segment(Group::aqueous_wall, dnode(0, v + 1), dnode(0, v));
       add_segment(Group::vitreous_wall, dnode(nl, v), dnode(nl, v + 1));
     }
@@ -208,14 +190,7 @@ void build_eye_section(const Layout& e, const Refinement& ref)
 
 void build_section(const Geometry& g, const Refinement& r)
 {
-  if (r.layers < 1)
-    reject("mesh.layers", r.layers, "must be >= 1");
-  for (auto [key, h] : {std::pair{"mesh.size_cornea", r.size_cornea},
-                        {"mesh.size_limbus", r.size_limbus}, {"mesh.size_sclera", r.size_sclera}})
-    if (!(h > 0))
-      reject(key, h, "must be > 0");
-  if (g.internal_structures && !(r.size_lens > 0))
-    reject("mesh.size_lens", r.size_lens, "must be > 0");
+  check_refinement(g, r);
   const Layout e = layout(g);
   try {
     build_eye_section(e, r);

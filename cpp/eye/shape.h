@@ -21,6 +21,13 @@ struct Meridian
   double y;
 };
 
+/// The point a fraction t of the way from a to b: the layered sweep
+/// X(s, t) = A + t (P - A) between an anterior point A and its posterior P.
+inline Meridian between(Meridian a, Meridian b, double t)
+{
+  return {a.r + t * (b.r - a.r), a.y + t * (b.y - a.y)};
+}
+
 /// Throws std::invalid_argument naming `key`, its value and what is accepted.
 [[noreturn]] void reject(const std::string& key, double value, const std::string& accepted);
 
@@ -124,6 +131,12 @@ struct Layout
   double limbus_begin; ///< s where the cornea ends
   double limbus_end;   ///< s where the sclera begins
   Diaphragm diaphragm{}; ///< internal structures (diaphragm.on) or nothing
+
+  /// The shell's part at the anterior arc length s.
+  Part part_at(double s) const
+  {
+    return s < limbus_begin ? Part::cornea : s < limbus_end ? Part::limbus : Part::sclera;
+  }
 
   /// The posterior arc length matched to the anterior arc length s.
   double matched(double s) const
