@@ -300,9 +300,9 @@ Vec3 place(Meridian p, double c, double s) { return {p.r * c, p.y, p.r * s}; }
 
 /// Meshes both bodies and writes the mesh into a new gmsh model "eye" as
 /// discrete entities with physical groups.
-void build_eye(const Layout& e, const Refinement& ref)
+void build_eye(const Shape& shape, const Refinement& ref)
 {
-  const Diaphragm& dia = e.diaphragm;
+  const Diaphragm& dia = shape.diaphragm;
   const std::size_t nl = static_cast<std::size_t>(ref.layers);
 
   // Shell chart: rings at the part bounds, the junction and the zonule ring.
@@ -311,7 +311,8 @@ void build_eye(const Layout& e, const Refinement& ref)
   // 0.3 mm per mm) and never exceed the part's own size inside it.
   const double gradation = 0.3;
   const std::array<double, 3> size{ref.size_cornea, ref.size_limbus, ref.size_sclera};
-  const std::array<double, 4> bounds{0, e.limbus_begin, e.limbus_end, e.anterior.length()};
+  const std::array<double, 4> bounds{0, shape.limbus_begin, shape.limbus_end,
+                                     shape.anterior.length()};
   ChartSpec shell_spec;
   shell_spec.size = [=](double s) {
     double h = size[0] + gradation * std::max(0.0, s - bounds[1]);
@@ -319,12 +320,13 @@ void build_eye(const Layout& e, const Refinement& ref)
       h = std::min(h, size[p] + gradation * std::max({0.0, bounds[p] - s, s - bounds[p + 1]}));
     return h;
   };
-  shell_spec.radii = {e.limbus_begin, e.anterior.junction_s(), e.limbus_end, e.anterior.length()};
+  shell_spec.radii = {shape.limbus_begin, shape.anterior.junction_s(), shape.limbus_end,
+                      shape.anterior.length()};
   shell_spec.fixed_outer = true;
   if (dia.on) {
     // The ring arc, merged with an existing one it (nearly) coincides with.
     shell_spec.ring_arc = static_cast<int>(
-        insert_bound(shell_spec.radii, dia.ring_s, 1e-9 * e.anterior.length()));
+        insert_bound(shell_spec.radii, dia.ring_s, 1e-9 * shape.anterior.length()));
     const double chart_arc = std::numbers::pi / 2 * dia.ring_s;
     shell_spec.ring_points =
         1 + std::max(2, static_cast<int>(std::ceil(chart_arc / shell_spec.size(dia.ring_s))));
@@ -333,7 +335,7 @@ void build_eye(const Layout& e, const Refinement& ref)
   std::vector<Part> shell_part;
   for (std::size_t i = 0; i < shell_spec.radii.size(); ++i) {
     const double lo = i > 0 ? shell_spec.radii[i - 1] : 0, mid = (lo + shell_spec.radii[i]) / 2;
-    shell_part.push_back(e.part_at(mid));
+    shell_part.push_back(shape.part_at(mid));
   }
 
   // Shell nodes: tag k nc + v + 1 for chart node v on layer k.
@@ -341,8 +343,8 @@ void build_eye(const Layout& e, const Refinement& ref)
   Assembly mesh;
   mesh.x.resize(nc * (nl + 1));
   for (std::size_t v = 0; v < nc; ++v) {
-    const Meridian a = e.anterior.at(shell.s[v]);
-    const Meridian p = e.posterior.at(e.matched(shell.s[v]));
+    const Meridian a = shape.anterior.at(shell.s[v]);
+    const Meridian p = shape.posterior.at(shape.posterior_s(shell.s[v]));
     for (std::size_t k = 0; k <= nl; ++k) {
       const double t = double(k) / double(nl);
       mesh.x[k * nc + v] = place(between(a, p, t), shell.cos_phi[v], shell.sin_phi[v]);
@@ -363,12 +365,13 @@ void build_eye(const Layout& e, const Refinement& ref)
     // ring, whose arc has the shell ring's points; the size grades linearly
     // along the band from size_lens to the ring's node spacing.
     const int m = shell_spec.ring_points;
-    const double ring_h = std::numbers::pi / 2 * dia.rho_max / (m - 1);
+    const double ring_h = std::numbers::pi / 2 * dia.rho_ring / (m - 1);
     ChartSpec spec;
-    spec.radii = {dia.rho_nucleus, dia.lens_r, dia.rho_max};
+    spec.radii = {dia.rho_nucleus, dia.lens_radius, dia.rho_ring};
     spec.ring_arc = 2;
     spec.ring_points = m;
-    const double lens_h = ref.size_lens, lr = dia.lens_r, band = dia.rho_max - dia.lens_r;
+    const double lens_h = ref.size_lens, lr = dia.lens_radius;
+    const double band = dia.rho_ring - dia.lens_radius;
     spec.size = [=](double rho) {
       return rho <= lr ? lens_h : lens_h + (ring_h - lens_h) * std::min(1.0, (rho - lr) / band);
     };
@@ -449,11 +452,11 @@ void build_eye(const Layout& e, const Refinement& ref)
 void build(const Geometry& g, const Refinement& r)
 {
   check_refinement(g, r);
-  const Layout e = layout(g);
+  const Shape shape = derive_shape(g);
   try {
     OptionGuard quiet;
     quiet.set("General.Terminal", 0);
-    build_eye(e, r);
+    build_eye(shape, r);
   } catch (const std::string& message) { // gmsh 4.8 throws its last error as a string
     throw std::runtime_error("nct::eye::build: gmsh failed: " + message);
   }

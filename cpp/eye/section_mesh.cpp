@@ -81,22 +81,22 @@ void write_section(const std::vector<std::size_t>& tags, const std::vector<doubl
 /// with the internal structures, the diaphragm's sweep on its chart in
 /// rho likewise, its layers meeting the shell's posterior node at the
 /// zonule ring (the 3D eye's ring arc, here a point).
-void build_eye_section(const Layout& e, const Refinement& ref)
+void build_eye_section(const Shape& shape, const Refinement& ref)
 {
-  const Diaphragm& dia = e.diaphragm;
+  const Diaphragm& dia = shape.diaphragm;
   const std::size_t nl = static_cast<std::size_t>(ref.layers);
   // The chart: nodes in s, uniform within each piece between the part
   // bounds, the junction and the zonule ring, at the piece's part's size.
-  std::vector<double> bounds{0, e.limbus_begin, e.anterior.junction_s(), e.limbus_end,
-                             e.anterior.length()};
+  std::vector<double> bounds{0, shape.limbus_begin, shape.anterior.junction_s(),
+                             shape.limbus_end, shape.anterior.length()};
   if (dia.on)
-    insert_bound(bounds, dia.ring_s, 1e-9 * e.anterior.length());
+    insert_bound(bounds, dia.ring_s, 1e-9 * shape.anterior.length());
   const auto size_of = [&](Part p) {
     return p == Part::cornea ? ref.size_cornea : p == Part::limbus ? ref.size_limbus
                                                                    : ref.size_sclera;
   };
-  const std::vector<double> chart
-      = chart_nodes(bounds, [&](double a, double b) { return size_of(e.part_at((a + b) / 2)); });
+  const std::vector<double> chart = chart_nodes(
+      bounds, [&](double a, double b) { return size_of(shape.part_at((a + b) / 2)); });
   const std::size_t nc = chart.size();
   std::size_t ring = nc;
   if (dia.on)
@@ -112,7 +112,8 @@ void build_eye_section(const Layout& e, const Refinement& ref)
   std::vector<std::size_t> tags;
   for (std::size_t k = 0; k <= nl; ++k)
     for (std::size_t j = 0; j < nc; ++j) {
-      const Meridian a = e.anterior.at(chart[j]), p = e.posterior.at(e.matched(chart[j]));
+      const Meridian a = shape.anterior.at(chart[j]);
+      const Meridian p = shape.posterior.at(shape.posterior_s(chart[j]));
       const Meridian x = between(a, p, double(k) / double(nl));
       // The axis exactly: r = 0 at the apex on every layer.
       coords.insert(coords.end(), {j == 0 ? 0.0 : x.r, x.y, 0.0});
@@ -138,7 +139,7 @@ void build_eye_section(const Layout& e, const Refinement& ref)
       cells.insert(cells.end(), {b, d, c});
   };
   for (std::size_t j = 0; j + 1 < nc; ++j) {
-    const Part part = e.part_at((chart[j] + chart[j + 1]) / 2);
+    const Part part = shape.part_at((chart[j] + chart[j + 1]) / 2);
     for (std::size_t k = 0; k < nl; ++k)
       add_cell(part, node(k, j), node(k, j + 1), node(k + 1, j + 1), node(k + 1, j));
     add_segment(anterior_group(part), node(0, j + 1), node(0, j));
@@ -157,8 +158,8 @@ void build_eye_section(const Layout& e, const Refinement& ref)
     const double ring_h = std::max(chart[ring] - chart[ring - 1],
                                    ring + 1 < nc ? chart[ring + 1] - chart[ring] : 0.0);
     const std::vector<double> rho = chart_nodes(
-        {0, dia.rho_nucleus, dia.lens_r, dia.rho_max},
-        [&](double a, double) { return a < dia.lens_r ? ref.size_lens : (ref.size_lens + ring_h) / 2; });
+        {0, dia.rho_nucleus, dia.lens_radius, dia.rho_ring},
+        [&](double a, double) { return a < dia.lens_radius ? ref.size_lens : (ref.size_lens + ring_h) / 2; });
     const std::size_t nd = rho.size(), base = (nl + 1) * nc;
     const auto dnode = [&](std::size_t k, std::size_t v) {
       return v + 1 == nd ? node(nl, ring) : base + k * (nd - 1) + v + 1;
@@ -172,7 +173,7 @@ void build_eye_section(const Layout& e, const Refinement& ref)
       }
     for (std::size_t v = 0; v + 1 < nd; ++v) {
       const double mid = (rho[v] + rho[v + 1]) / 2;
-      const int annulus = mid < dia.rho_nucleus ? 0 : mid < dia.lens_r ? 1 : 2;
+      const int annulus = mid < dia.rho_nucleus ? 0 : mid < dia.lens_radius ? 1 : 2;
       for (std::size_t k = 0; k < nl; ++k)
         add_cell(diaphragm_part(annulus, k, nl), dnode(k, v), dnode(k, v + 1), dnode(k + 1, v + 1),
                  dnode(k + 1, v));
@@ -191,9 +192,9 @@ void build_eye_section(const Layout& e, const Refinement& ref)
 void build_section(const Geometry& g, const Refinement& r)
 {
   check_refinement(g, r);
-  const Layout e = layout(g);
+  const Shape shape = derive_shape(g);
   try {
-    build_eye_section(e, r);
+    build_eye_section(shape, r);
   } catch (const std::string& message) { // gmsh 4.8 throws its last error as a string
     throw std::runtime_error("nct::eye::build_section: gmsh failed: " + message);
   }

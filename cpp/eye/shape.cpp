@@ -1,5 +1,5 @@
 // The idealised eye's analytic shape: the derived numbers, the validated
-// layout and the fibres.
+// shape the meshers use and the fibres.
 #include "eye/shape.h"
 
 #include <algorithm>
@@ -39,14 +39,10 @@ double segment_volume(Meridian a, Meridian b)
   return std::numbers::pi * (b.y - a.y) * (a.r * a.r + a.r * b.r + b.r * b.r) / 3;
 }
 
-/// Validates the internal structures of g and derives them into e
-/// (diaphragm, aqueous and vitreous volumes).
-void add_diaphragm(const Geometry& g, Layout& e)
+/// Throws for the first key of the internal structures that is impossible
+/// on its own.
+void check_diaphragm_keys(const Geometry& g)
 {
-  Derived& d = e.derived;
-  const double Ri = g.sclera_outer_radius - g.sclera_thickness, Rp = g.cornea_posterior_radius;
-  const double cp = d.posterior_centre_y, yp = d.junction_posterior_y;
-  const double cavity_top = d.apex_y - g.cornea_central_thickness;
   const double lr = g.lens_diameter / 2;
   if (!(g.anterior_chamber_depth > 0))
     reject("geometry.anterior_chamber_depth", g.anterior_chamber_depth, "must be > 0");
@@ -64,50 +60,68 @@ void add_diaphragm(const Geometry& g, Layout& e)
     reject("geometry.lens_nucleus_fraction", g.lens_nucleus_fraction, "must be in (0, 1)");
   if (!(g.ciliary_offset > 0))
     reject("geometry.ciliary_offset", g.ciliary_offset, "must be > 0");
+}
 
-  Diaphragm m;
-  m.on = true;
-  m.lens_r = lr;
-  m.front_pole = cavity_top - g.anterior_chamber_depth;
-  m.back_pole = m.front_pole - g.lens_thickness;
-  m.front_R = g.lens_anterior_radius;
-  m.front_c = m.front_pole - m.front_R;
-  m.back_R = g.lens_posterior_radius;
-  m.back_c = m.back_pole + m.back_R;
-  m.rim_front = {lr, m.front_c + std::sqrt(m.front_R * m.front_R - lr * lr)};
-  m.rim_back = {lr, m.back_c - std::sqrt(m.back_R * m.back_R - lr * lr)};
-  if (!(m.rim_front.y > m.rim_back.y)) {
+/// The lens and the zonule ring of g in the shell `shape`; throws if the
+/// lens rim has no thickness or the ring lies below the cut plane or
+/// inside the lens equator.
+Diaphragm place_diaphragm(const Geometry& g, const Shape& shape)
+{
+  const double cavity_top = shape.derived.apex_y - g.cornea_central_thickness;
+  const double lr = g.lens_diameter / 2;
+  Diaphragm dia;
+  dia.on = true;
+  dia.lens_radius = lr;
+  dia.front_pole = cavity_top - g.anterior_chamber_depth;
+  dia.back_pole = dia.front_pole - g.lens_thickness;
+  dia.front_radius = g.lens_anterior_radius;
+  dia.front_centre_y = dia.front_pole - dia.front_radius;
+  dia.back_radius = g.lens_posterior_radius;
+  dia.back_centre_y = dia.back_pole + dia.back_radius;
+  dia.rim_front
+      = {lr, dia.front_centre_y + std::sqrt(dia.front_radius * dia.front_radius - lr * lr)};
+  dia.rim_back = {lr, dia.back_centre_y - std::sqrt(dia.back_radius * dia.back_radius - lr * lr)};
+  if (!(dia.rim_front.y > dia.rim_back.y)) {
     std::ostringstream accepted;
     accepted << "the lens rim at r = geometry.lens_diameter / 2 must have a positive thickness "
                 "(it is "
-             << m.rim_front.y - m.rim_back.y
+             << dia.rim_front.y - dia.rim_back.y
              << "): increase lens_thickness or the lens radii, or decrease lens_diameter";
     reject("geometry.lens_thickness", g.lens_thickness, accepted.str());
   }
 
   // The ring point: ciliary_offset along the inner sphere behind the
   // posterior junction; the posterior profile is parametrised by arc length.
-  const double ring_ps = e.posterior.junction_s() + g.ciliary_offset;
-  if (!(ring_ps < e.posterior.length())) {
+  const Profile &anterior = shape.anterior, &posterior = shape.posterior;
+  const double ring_ps = posterior.junction_s() + g.ciliary_offset;
+  if (!(ring_ps < posterior.length())) {
     std::ostringstream accepted;
     accepted << "the zonule ring must lie above the cut plane: ciliary_offset < "
-             << e.posterior.length() - e.posterior.junction_s();
+             << posterior.length() - posterior.junction_s();
     reject("geometry.ciliary_offset", g.ciliary_offset, accepted.str());
   }
-  m.ring = e.posterior.at(ring_ps);
-  if (!(m.ring.r > lr))
+  dia.ring = posterior.at(ring_ps);
+  if (!(dia.ring.r > lr))
     reject("geometry.ciliary_offset", g.ciliary_offset,
            "the zonule ring must lie outside the lens equator (ring radius > lens_diameter / 2)");
   // Invert the matching s -> s' (linear beyond the junction).
-  const double sl = e.anterior.junction_s(), S = e.anterior.length();
-  const double psl = e.posterior.junction_s(), pS = e.posterior.length();
-  m.ring_s = sl + g.ciliary_offset * (S - sl) / (pS - psl);
-  m.rho_nucleus = g.lens_nucleus_fraction * lr;
-  const Meridian mid{lr, (m.rim_front.y + m.rim_back.y) / 2};
-  m.rho_max = lr + std::hypot(m.ring.r - mid.r, m.ring.y - mid.y);
+  const double sl = anterior.junction_s(), S = anterior.length();
+  const double psl = posterior.junction_s(), pS = posterior.length();
+  dia.ring_s = sl + g.ciliary_offset * (S - sl) / (pS - psl);
+  dia.rho_nucleus = g.lens_nucleus_fraction * lr;
+  const Meridian mid{lr, (dia.rim_front.y + dia.rim_back.y) / 2};
+  dia.rho_ring = lr + std::hypot(dia.ring.r - mid.r, dia.ring.y - mid.y);
+  return dia;
+}
 
-  // The lens and the band must lie strictly inside the cavity (the band
-  // ends on its wall at the ring point).
+/// Throws if the lens or the zonule band leaves the cavity: they must lie
+/// strictly inside it (the band ends on its wall at the ring point).
+void check_diaphragm_in_cavity(const Geometry& g, const Derived& d, const Diaphragm& dia)
+{
+  const double Ri = g.sclera_outer_radius - g.sclera_thickness, Rp = g.cornea_posterior_radius;
+  const double cp = d.posterior_centre_y, yp = d.junction_posterior_y;
+  const double cavity_top = d.apex_y - g.cornea_central_thickness;
+  const double lr = dia.lens_radius;
   const auto inside = [&](Meridian p) {
     if (!(p.y > g.cut_y && p.y < cavity_top))
       return false;
@@ -117,29 +131,44 @@ void add_diaphragm(const Geometry& g, Layout& e)
   const int samples = 256;
   for (int i = 0; i <= samples; ++i) {
     const double rho = lr * i / samples;
-    if (!inside(m.anterior(rho)))
+    if (!inside(dia.anterior(rho)))
       reject("geometry.anterior_chamber_depth", g.anterior_chamber_depth,
              "the anterior lens surface must lie inside the cavity, behind the posterior cornea");
-    if (!inside(m.posterior(rho)))
+    if (!inside(dia.posterior(rho)))
       reject("geometry.lens_thickness", g.lens_thickness,
              "the posterior lens surface must lie inside the cavity, above the cut plane");
   }
   for (int i = 0; i < samples; ++i) {
-    const double rho = lr + (m.rho_max - lr) * i / samples;
-    if (!inside(m.anterior(rho)) || !inside(m.posterior(rho)))
+    const double rho = lr + (dia.rho_ring - lr) * i / samples;
+    if (!inside(dia.anterior(rho)) || !inside(dia.posterior(rho)))
       reject("geometry.ciliary_offset", g.ciliary_offset,
              "the zonule band from the lens equator to the ring must not cross the cornea "
              "or the sclera");
   }
-  e.diaphragm = m;
+}
+
+/// Validates the internal structures of g and derives them into `shape`
+/// (its diaphragm, the aqueous and vitreous volumes).
+void derive_diaphragm(const Geometry& g, Shape& shape)
+{
+  check_diaphragm_keys(g);
+  const Diaphragm dia = place_diaphragm(g, shape);
+  check_diaphragm_in_cavity(g, shape.derived, dia);
+  shape.diaphragm = dia;
 
   // Chamber volumes: pi r^2 dy along their counter-clockwise meridian
   // boundaries (r right, y up); the axis and the cut plane add nothing.
-  d.aqueous_volume = zone_volume(m.front_R, m.front_c, m.front_pole, m.rim_front.y)
-                     + segment_volume(m.rim_front, m.ring) + zone_volume(Ri, 0, m.ring.y, yp)
-                     + zone_volume(Rp, cp, yp, cavity_top);
-  d.vitreous_volume = zone_volume(Ri, 0, g.cut_y, m.ring.y) + segment_volume(m.ring, m.rim_back)
-                      + zone_volume(m.back_R, m.back_c, m.rim_back.y, m.back_pole);
+  Derived& d = shape.derived;
+  const double Ri = g.sclera_outer_radius - g.sclera_thickness, Rp = g.cornea_posterior_radius;
+  const double cp = d.posterior_centre_y, yp = d.junction_posterior_y;
+  const double cavity_top = d.apex_y - g.cornea_central_thickness;
+  d.aqueous_volume
+      = zone_volume(dia.front_radius, dia.front_centre_y, dia.front_pole, dia.rim_front.y)
+        + segment_volume(dia.rim_front, dia.ring) + zone_volume(Ri, 0, dia.ring.y, yp)
+        + zone_volume(Rp, cp, yp, cavity_top);
+  d.vitreous_volume
+      = zone_volume(Ri, 0, g.cut_y, dia.ring.y) + segment_volume(dia.ring, dia.rim_back)
+        + zone_volume(dia.back_radius, dia.back_centre_y, dia.rim_back.y, dia.back_pole);
 }
 
 /// The y of the anterior corneal sphere's centre (unvalidated).
@@ -150,9 +179,9 @@ double anterior_centre_y(const Geometry& g)
   return std::sqrt(Rs * Rs - rl * rl) - std::sqrt(Ra * Ra - rl * rl);
 }
 
-} // namespace
-
-Layout layout(const Geometry& g)
+/// Throws for the first key of the shell (sclera, cornea, limbus) that is
+/// impossible on its own.
+void check_shell_keys(const Geometry& g)
 {
   const double Rs = g.sclera_outer_radius, ts = g.sclera_thickness;
   const double Ra = g.cornea_anterior_radius, Rp = g.cornea_posterior_radius;
@@ -170,7 +199,16 @@ Layout layout(const Geometry& g)
   if (!(rl > 0 && rl < Rs && rl < Ra))
     reject("geometry.limbus_diameter", g.limbus_diameter,
            "must be in (0, 2 min(cornea_anterior_radius, sclera_outer_radius))");
+}
 
+/// The shell's derived points, its peripheral thickness and the cavity's
+/// volume (no internal structures); throws if the posterior cornea misses
+/// the inner sclera or the anterior junction, or the cut plane the eye.
+Derived derive_shell(const Geometry& g)
+{
+  const double Rs = g.sclera_outer_radius, ts = g.sclera_thickness;
+  const double Ra = g.cornea_anterior_radius, Rp = g.cornea_posterior_radius;
+  const double tc = g.cornea_central_thickness, rl = g.limbus_diameter / 2;
   Derived d{};
   const double Ri = Rs - ts;
   d.junction_anterior_r = rl;
@@ -214,28 +252,24 @@ Layout layout(const Geometry& g)
   }
 
   d.cavity_volume = zone_volume(Ri, 0, g.cut_y, yp) + zone_volume(Rp, cp, yp, d.apex_y - tc);
+  return d;
+}
 
-  const Profile anterior(d.anterior_centre_y, Ra, {rl, d.junction_anterior_y}, Rs, g.cut_y);
-  const Profile posterior(cp, Rp, {d.junction_posterior_r, yp}, Ri, g.cut_y);
-  const double sl = anterior.junction_s(), w = g.limbus_width;
-  if (!(w > 0 && w / 2 < sl && sl + w / 2 < anterior.length())) {
-    std::ostringstream range;
-    range << "must be in (0, " << 2 * std::min(sl, anterior.length() - sl)
-          << ") so that cornea and sclera keep some anterior arc length";
-    reject("geometry.limbus_width", w, range.str());
-  }
-  Layout e{d, anterior, posterior, sl - w / 2, sl + w / 2};
-
-  // The sweep X(s, t) = A + t (P - A) must not fold. Its meridian Jacobian
-  // dX/ds x (P - A) is linear in t and -tc < 0 at the apex, so it must be
-  // negative on both profiles; sampled at the midpoints of each arc piece.
+/// Throws if the sweep X(s, t) = A + t (P - A) between the profiles folds.
+/// Its meridian Jacobian dX/ds x (P - A) is linear in t and -tc < 0 at the
+/// apex, so it must be negative on both profiles; sampled at the midpoints
+/// of each arc piece.
+void check_layers_do_not_fold(const Shape& shape)
+{
+  const Profile &anterior = shape.anterior, &posterior = shape.posterior;
+  const double sl = anterior.junction_s();
   const int samples = 64;
   for (const auto& [s0, s1] : {std::pair{0.0, sl}, std::pair{sl, anterior.length()}})
     for (int i = 0; i < samples; ++i) {
-      const double s = s0 + (i + 0.5) / samples * (s1 - s0), ps = e.matched(s);
+      const double s = s0 + (i + 0.5) / samples * (s1 - s0), ps = shape.posterior_s(s);
       const Meridian a = anterior.at(s), p = posterior.at(ps);
       const Meridian da = anterior.tangent(s), dp = posterior.tangent(ps);
-      const double sr = p.r - a.r, sy = p.y - a.y, rate = e.matched_rate(s);
+      const double sr = p.r - a.r, sy = p.y - a.y, rate = shape.posterior_s_rate(s);
       if (!(da.r * sy - da.y * sr < 0 && rate * (dp.r * sy - dp.y * sr) < 0)) {
         std::ostringstream message;
         message << "geometry: the layers between the anterior and posterior surfaces fold near "
@@ -245,9 +279,32 @@ Layout layout(const Geometry& g)
         throw std::invalid_argument(message.str());
       }
     }
+}
+
+} // namespace
+
+Shape derive_shape(const Geometry& g)
+{
+  check_shell_keys(g);
+  const Derived d = derive_shell(g);
+  const double Rs = g.sclera_outer_radius, Ri = Rs - g.sclera_thickness;
+  const Profile anterior(d.anterior_centre_y, g.cornea_anterior_radius,
+                         {d.junction_anterior_r, d.junction_anterior_y}, Rs, g.cut_y);
+  const Profile posterior(d.posterior_centre_y, g.cornea_posterior_radius,
+                          {d.junction_posterior_r, d.junction_posterior_y}, Ri, g.cut_y);
+  // The limbus: a band of limbus_width centred on the anterior junction.
+  const double sl = anterior.junction_s(), w = g.limbus_width;
+  if (!(w > 0 && w / 2 < sl && sl + w / 2 < anterior.length())) {
+    std::ostringstream range;
+    range << "must be in (0, " << 2 * std::min(sl, anterior.length() - sl)
+          << ") so that cornea and sclera keep some anterior arc length";
+    reject("geometry.limbus_width", w, range.str());
+  }
+  Shape shape{d, anterior, posterior, sl - w / 2, sl + w / 2};
+  check_layers_do_not_fold(shape);
   if (g.internal_structures)
-    add_diaphragm(g, e);
-  return e;
+    derive_diaphragm(g, shape);
+  return shape;
 }
 
 } // namespace detail
@@ -256,7 +313,7 @@ using detail::Vec3;
 
 Derived derive(const Geometry& g)
 {
-  return detail::layout(g).derived;
+  return detail::derive_shape(g).derived;
 }
 
 std::array<std::array<double, 3>, 2> fibres(const Geometry& g, Part part,

@@ -1,5 +1,5 @@
 // The idealised eye's analytic shape as its meshers use it: the meridian
-// profiles, the internal structures' diaphragm and the validated layout
+// profiles, the internal structures' diaphragm and the validated shape
 // (cpp/eye/shape.cpp).
 #pragma once
 
@@ -82,48 +82,48 @@ private:
 
 /// The internal structures in the meridian plane, parametrised by the
 /// diaphragm's chart radius rho: rho = r in the lens, then linear in the
-/// distance along the zonule band to the ring point at rho_max.
+/// distance along the zonule band to the ring point at rho_ring.
 struct Diaphragm
 {
   bool on = false;
-  double lens_r = 0;                  ///< lens radius (equator)
-  double front_c = 0, front_R = 0;    ///< anterior lens sphere: centre y, radius
-  double back_c = 0, back_R = 0;      ///< posterior lens sphere: centre y, radius
+  double lens_radius = 0;             ///< lens radius (equator)
+  double front_centre_y = 0, front_radius = 0; ///< anterior lens sphere: centre y, radius
+  double back_centre_y = 0, back_radius = 0;   ///< posterior lens sphere: centre y, radius
   double front_pole = 0, back_pole = 0; ///< y of the lens poles
   Meridian rim_front{}, rim_back{};   ///< lens equator rim on the two spheres
   Meridian ring{};                    ///< zonule ring point R on the inner sclera
   double ring_s = 0;                  ///< shell chart radius (anterior arc length) of the ring
   double rho_nucleus = 0;             ///< chart radius bounding the nucleus
-  double rho_max = 0;                 ///< chart radius of the ring
+  double rho_ring = 0;                ///< chart radius of the ring
 
   /// The anterior (front) profile point at chart radius rho.
   Meridian anterior(double rho) const
   {
-    if (rho <= lens_r)
-      return {rho, front_c + std::sqrt(front_R * front_R - rho * rho)};
+    if (rho <= lens_radius)
+      return {rho, front_centre_y + std::sqrt(front_radius * front_radius - rho * rho)};
     return toward_ring(rim_front, rho);
   }
 
   /// The posterior (back) profile point at chart radius rho.
   Meridian posterior(double rho) const
   {
-    if (rho <= lens_r)
-      return {rho, back_c - std::sqrt(back_R * back_R - rho * rho)};
+    if (rho <= lens_radius)
+      return {rho, back_centre_y - std::sqrt(back_radius * back_radius - rho * rho)};
     return toward_ring(rim_back, rho);
   }
 
 private:
   Meridian toward_ring(Meridian rim, double rho) const
   {
-    if (rho >= rho_max)
+    if (rho >= rho_ring)
       return ring;
-    const double u = (rho - lens_r) / (rho_max - lens_r);
+    const double u = (rho - lens_radius) / (rho_ring - lens_radius);
     return {rim.r + u * (ring.r - rim.r), rim.y + u * (ring.y - rim.y)};
   }
 };
 
 /// The validated shape: derived numbers, both profiles and the part bounds.
-struct Layout
+struct Shape
 {
   Derived derived;
   Profile anterior;
@@ -139,7 +139,7 @@ struct Layout
   }
 
   /// The posterior arc length matched to the anterior arc length s.
-  double matched(double s) const
+  double posterior_s(double s) const
   {
     const double sl = anterior.junction_s(), S = anterior.length();
     const double psl = posterior.junction_s(), pS = posterior.length();
@@ -151,14 +151,15 @@ struct Layout
   }
 
   /// The slope ds'/ds of the matching at s.
-  double matched_rate(double s) const
+  double posterior_s_rate(double s) const
   {
     const double sl = anterior.junction_s(), psl = posterior.junction_s();
     return s <= sl ? psl / sl : (posterior.length() - psl) / (anterior.length() - sl);
   }
 };
 
-/// Validates the geometry and derives the layout of the eye.
-Layout layout(const Geometry& g);
+/// Validates the geometry and derives its shape; throws
+/// std::invalid_argument naming the key of an impossible shape (derive()).
+Shape derive_shape(const Geometry& g);
 
 } // namespace nct::eye::detail
