@@ -1,4 +1,6 @@
-// The idealised eye: a parametric, layered gmsh model of the quarter eye.
+// The idealised eye: a parametric, layered gmsh model of the quarter eye
+// and of its meridian section. The shape and the fibres: shape.cpp; the
+// quarter eye's mesh: mesh.cpp; the section's: section_mesh.cpp.
 #pragma once
 
 #include <array>
