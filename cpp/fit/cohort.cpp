@@ -14,6 +14,7 @@
 #include "io/toml_input.h"
 #include "jobs/jobs.h"
 #include "jobs/launcher_input.h"
+#include "jobs/run_cache.h"
 #include "scene/scene.h"
 
 namespace nct::fit
@@ -25,7 +26,7 @@ namespace
 {
 
 /// A patient's row as recorded in its folder: a changed row is fitted again.
-nlohmann::json record(const Patient& p)
+nlohmann::json patient_record(const Patient& p)
 {
   return {{"patient", p.id},    {"folder", fs::absolute(p.folder).lexically_normal()},
           {"sets", p.sets},     {"priors", p.priors},
@@ -166,7 +167,9 @@ int run_cohort(const Fit& fit, const Options& o)
 {
   const auto start = std::chrono::steady_clock::now();
   const Cohort& cohort = *fit.cohort;
-  fs::create_directories(o.out / "patients");
+  // A patient's folder records its row: a changed row is fitted again,
+  // its fit resuming from the forward runs it has.
+  const jobs::RunCache fits(o.out / "patients", "patient.json", "fit.json");
   if (fs::exists(o.out / "fit.toml")
       && jobs::read_text(o.out / "fit.toml") != jobs::read_text(fit.file))
     throw scene::Error(fit.file.string() + ": " + o.out.string() + " holds another cohort (its "
@@ -194,24 +197,20 @@ int run_cohort(const Fit& fit, const Options& o)
   for (std::size_t i = 0; i < cohort.patients.size(); ++i)
   {
     const Patient& p = cohort.patients[i];
-    const fs::path dir = o.out / "patients" / p.id;
-    const std::string row_json = record(p).dump(2) + "\n";
-    if (fs::exists(dir / "fit.json") && jobs::read_text(dir / "patient.json") == row_json)
+    const nlohmann::json row = patient_record(p);
+    if (fits.reusable(p.id, row))
     {
       ++kept;
       continue;
     }
+    const fs::path dir = fits.path(p.id);
     std::vector<std::string> argv = {o.program.string(), "fit", fs::absolute(fit.file).string(),
                                      "--patient", p.id, "--out", fs::absolute(dir).string(),
                                      "--jobs", std::to_string(per_patient)};
     if (!o.launcher.empty())
       argv.insert(argv.end(), {"--launcher", o.launcher});
-    todo.push_back({argv, fs::absolute(dir / "fit.log"), 1, "", [dir, row_json]
-                    {
-                      fs::create_directories(dir);
-                      fs::remove(dir / "fit.json"); // a changed row's old answer
-                      io::write_atomic(dir / "patient.json", row_json);
-                    }});
+    todo.push_back({argv, fs::absolute(dir / "fit.log"), 1, "", nullptr});
+    fits.prepare(todo.back(), p.id, row, jobs::RunCache::Restart::resume);
     index.push_back(i);
   }
   std::cout << "cohort " << fit.file.string() << ": " << n << " patient(s) from "

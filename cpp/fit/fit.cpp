@@ -7,6 +7,7 @@
 #include <cmath>
 #include <iostream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include <ceres/ceres.h>
@@ -18,7 +19,7 @@
 #include "io/toml_input.h"
 #include "jobs/jobs.h"
 #include "jobs/launcher_input.h"
-#include "jobs/slurm.h"
+#include "jobs/run_cache.h"
 #include "scene/scene.h"
 
 namespace nct::fit
@@ -217,25 +218,17 @@ class Forward
 {
 public:
   Forward(const Fit& fit, const Options& options, jobs::Launcher launcher)
-      : _fit(fit), _options(options), _launcher(std::move(launcher))
+      : _fit(fit), _options(options), _launcher(std::move(launcher)),
+        _runs(options.out / "runs", "run.json", "summary.json")
   {
-    const fs::path dir = options.out / "runs";
-    fs::create_directories(dir);
-    // A run a driver killed before it left on a cluster's queue is followed.
-    const auto queued = jobs::slurm::in_flight(_launcher);
-    for (auto& entry : fs::directory_iterator(dir))
+    // A run a driver killed before it left on a cluster's queue is followed;
+    // an interrupted one runs again when needed.
+    const std::set<std::string> followed = _runs.clean(_launcher);
+    for (const std::string& name : _runs.names())
     {
-      const fs::path run = entry.path();
-      const bool pending = fs::exists(run / "run.json")
-                           && queued.count(fs::absolute(run / "console.log").lexically_normal().string());
-      if (!fs::exists(run / "run.json") || (!fs::exists(run / "summary.json") && !pending))
-      {
-        fs::remove_all(run); // interrupted: runs again when needed
-        continue;
-      }
-      auto recorded = nlohmann::json::parse(jobs::read_text(run / "run.json"));
-      (pending ? _pending : _cache)[recorded.at("sets").get<std::vector<std::string>>()] = run;
-      _next = std::max(_next, std::stoi(run.filename().string().substr(4)) + 1);
+      const auto sets = _runs.recorded(name).at("sets").get<std::vector<std::string>>();
+      (followed.count(name) ? _pending : _cache)[sets] = name;
+      _next = std::max(_next, std::stoi(name.substr(4)) + 1);
     }
     _reusable = int(_cache.size());
   }
@@ -257,7 +250,7 @@ public:
   {
     std::vector<std::vector<std::string>> wanted, todo_sets;
     std::vector<jobs::Job> todo;
-    std::vector<fs::path> todo_dirs;
+    std::vector<std::string> todo_names;
     for (auto& p : points)
     {
       auto s = sets(p);
@@ -265,49 +258,39 @@ public:
       if (_cache.count(s) || std::count(todo_sets.begin(), todo_sets.end(), s))
         continue;
       auto pending = _pending.find(s);
-      const fs::path dir = pending != _pending.end()
-                               ? pending->second
-                               : _options.out / "runs" / format("run-%04d", _next++);
+      const std::string name
+          = pending != _pending.end() ? pending->second : format("run-%04d", _next++);
       if (pending != _pending.end())
         _pending.erase(pending);
       todo_sets.push_back(s);
-      todo_dirs.push_back(dir);
-      todo.push_back({jobs::nct_command(_options.program, "run", _fit.scene, s, dir),
-                      fs::absolute(dir / "console.log"), _fit.ranks, _fit.mpiexec,
-                      [dir, s, scene = _fit.scene]
-                      {
-                        fs::remove_all(dir);
-                        fs::create_directories(dir);
-                        io::write_atomic(dir / "run.json",
-                                         nlohmann::json{{"scene", fs::absolute(scene)},
-                                                        {"sets", s}}.dump(2)
-                                             + "\n");
-                      }});
+      todo_names.push_back(name);
+      todo.push_back(_runs.nct_run(name, _options.program, _fit.scene, s, _fit.ranks,
+                                   _fit.mpiexec));
     }
     const int at_once = _options.jobs > 0 ? _options.jobs : _fit.jobs;
     const bool complete = jobs::run(_launcher, todo, at_once, [](std::size_t, int) {});
     if (!complete)
       throw Interrupted();
     for (std::size_t i = 0; i < todo.size(); ++i)
-      if (fs::exists(todo_dirs[i] / "summary.json"))
+      if (_runs.finished(todo_names[i]))
       {
-        _cache[todo_sets[i]] = todo_dirs[i];
+        _cache[todo_sets[i]] = todo_names[i];
         ++_done;
       }
       else
-        std::cerr << "fit: forward run " << todo_dirs[i].filename().string()
-                  << " stopped without a summary; " << (todo_dirs[i] / "console.log").string()
-                  << " ends:\n"
-                  << jobs::tail(jobs::read_text(todo_dirs[i] / "console.log"), 4);
+        std::cerr << "fit: forward run " << todo_names[i] << " stopped without a summary; "
+                  << (_runs.path(todo_names[i]) / "console.log").string() << " ends:\n"
+                  << jobs::tail(jobs::read_text(_runs.path(todo_names[i]) / "console.log"), 4);
     std::vector<fs::path> out;
     for (auto& s : wanted)
     {
       auto it = _cache.find(s);
       const bool ok = it != _cache.end()
-                      && nlohmann::json::parse(jobs::read_text(it->second / "summary.json"))
+                      && nlohmann::json::parse(
+                             jobs::read_text(_runs.path(it->second) / "summary.json"))
                                  .value("status", "")
                              == "converged";
-      out.push_back(ok ? it->second : fs::path());
+      out.push_back(ok ? _runs.path(it->second) : fs::path());
     }
     return out;
   }
@@ -324,9 +307,11 @@ private:
   const Fit& _fit;
   const Options& _options;
   jobs::Launcher _launcher;
-  std::map<std::vector<std::string>, fs::path> _cache;
+  jobs::RunCache _runs;
+  /// Finished runs by their overrides: their names.
+  std::map<std::vector<std::string>, std::string> _cache;
   /// Runs still on a cluster's queue from a driver that was killed.
-  std::map<std::vector<std::string>, fs::path> _pending;
+  std::map<std::vector<std::string>, std::string> _pending;
   int _next = 1, _done = 0, _reusable = 0;
 };
 

@@ -29,6 +29,7 @@
 #include "io/toml_input.h"
 #include "biomarkers/registry.h"
 #include "jobs/jobs.h"
+#include "jobs/run_cache.h"
 #include "scene/scene.h"
 #include "study/analysis.h"
 
@@ -401,6 +402,14 @@ jobs::Job command(const Study& s, const Options& o, const Case& c, const std::st
           verb == "run" ? s.ranks : 1, s.mpiexec, nullptr};
 }
 
+/// What case c's folder records: its name, scene and overrides.
+nlohmann::json case_record(const Study& s, std::size_t c)
+{
+  nlohmann::json record = jobs::run_record(s.cases[c].scene, s.cases[c].sets);
+  record["case"] = case_name(c, s.cases.size());
+  return record;
+}
+
 // ---------------------------------------------------------------------------
 // The results table and its analysis
 // ---------------------------------------------------------------------------
@@ -769,28 +778,20 @@ int run(const Study& s, const Options& o)
 
   // Finished cases (a summary.json from the same overrides) are kept; a
   // folder from other overrides means another study: refuse to mix.
+  const jobs::RunCache cases(o.out / "cases", "case.json", "summary.json");
   std::vector<Result> results(n);
   std::vector<std::size_t> todo;
   for (std::size_t c = 0; c < n; ++c)
   {
-    const fs::path dir = o.out / "cases" / case_name(c, n);
+    const std::string name = case_name(c, n);
     results[c].responses.assign(s.responses.size(), nan);
-    if (fs::exists(dir / "case.json"))
-    {
-      auto recorded = nlohmann::json::parse(read_text(dir / "case.json"));
-      if (recorded.value("sets", std::vector<std::string>{}) != s.cases[c].sets
-          || recorded.value("scene", fs::absolute(s.scene).string())
-                 != fs::absolute(s.cases[c].scene).string())
-        throw Error(s.file.string() + ": " + o.out.string() + " holds another study ("
-                    + case_name(c, n) + " was run with other keys); give a new --out or "
-                    "remove it");
-      if (fs::exists(dir / "summary.json"))
-      {
-        results[c] = read_result(s, dir);
-        continue;
-      }
-    }
-    todo.push_back(c);
+    if (!cases.agrees(name, case_record(s, c)))
+      throw Error(s.file.string() + ": " + o.out.string() + " holds another study (" + name
+                  + " was run with other keys); give a new --out or remove it");
+    if (cases.finished(name))
+      results[c] = read_result(s, cases.path(name));
+    else
+      todo.push_back(c);
   }
   std::cout << "study " << s.file.string() << ": " << s.design << ", "
             << (s.variants.empty() ? format("%zu factor(s)", s.factors.size())
@@ -852,21 +853,9 @@ int run(const Study& s, const Options& o)
   io::write_atomic(o.out / "study.toml", read_text(s.file));
   std::vector<jobs::Job> runs;
   for (std::size_t c : todo)
-  {
-    const fs::path dir = o.out / "cases" / case_name(c, n);
-    runs.push_back(command(s, o, s.cases[c], "run", dir, dir / "console.log"));
     // An interrupted case starts afresh (one still running on a cluster is followed).
-    runs.back().prepare = [&s, dir, c, n]
-    {
-      fs::remove_all(dir);
-      fs::create_directories(dir);
-      io::write_atomic(dir / "case.json",
-                       nlohmann::json{{"case", case_name(c, n)},
-                                      {"scene", fs::absolute(s.cases[c].scene).string()},
-                                      {"sets", s.cases[c].sets}}.dump(2)
-                           + "\n");
-    };
-  }
+    runs.push_back(cases.nct_run(case_name(c, n), o.program, s.cases[c].scene, s.cases[c].sets,
+                                 s.ranks, s.mpiexec, {{"case", case_name(c, n)}}));
   const auto start = std::chrono::steady_clock::now();
   std::size_t finished = n - todo.size();
   io::write_atomic(o.out / "cases.csv", cases_csv(s, results));
