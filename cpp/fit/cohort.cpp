@@ -34,7 +34,7 @@ nlohmann::json patient_record(const Patient& p)
 }
 
 /// A CSV cell: a number as written back exactly, text as it is, none empty.
-std::string cell(const nlohmann::ordered_json& v)
+std::string csv_cell(const nlohmann::ordered_json& v)
 {
   if (v.is_number_integer())
     return std::to_string(v.get<long>());
@@ -52,7 +52,7 @@ std::string cell(const nlohmann::ordered_json& v)
 }
 
 /// One row of the cohort's table from a patient's fit.json (null: not fitted).
-nlohmann::ordered_json row(const Patient& p, const nlohmann::json& result,
+nlohmann::ordered_json cohort_row(const Patient& p, const nlohmann::json& result,
                            const std::string& status)
 {
   nlohmann::ordered_json r = nlohmann::ordered_json::object();
@@ -122,7 +122,7 @@ std::string to_csv(const nlohmann::ordered_json& rows)
   for (auto& r : rows)
   {
     for (std::size_t c = 0; c < cols.size(); ++c)
-      csv << (c ? "," : "") << (r.contains(cols[c]) ? cell(r[cols[c]]) : "");
+      csv << (c ? "," : "") << (r.contains(cols[c]) ? csv_cell(r[cols[c]]) : "");
     csv << "\n";
   }
   return csv.str();
@@ -274,7 +274,7 @@ int run_cohort(const Fit& fit, const Options& o)
       status = result["status"];
     }
     converged += status == "converged";
-    rows.push_back(row(p, result, status));
+    rows.push_back(cohort_row(p, result, status));
     for (auto& [label, truth] : p.truths)
       if (rows.back().contains(label + "_inside"))
         ++with_truth, inside += rows.back()[label + "_inside"].get<bool>();

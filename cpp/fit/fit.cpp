@@ -26,11 +26,10 @@ namespace nct::fit
 {
 namespace fs = std::filesystem;
 using io::format;
+using io::nan;
 
 namespace
 {
-
-const double nan = std::numeric_limits<double>::quiet_NaN();
 
 /// A fitted parameter's value from its fitted variable, and back: on a
 /// log scale the variable is log(value / start), so that the start's
@@ -609,16 +608,17 @@ nlohmann::json describe_observations(const Fit& fit, const std::vector<double>& 
   nlohmann::json observations = nlohmann::json::array();
   std::size_t j = 0;
   static const char* kinds[] = {"biomarker", "curve", "profile"};
-  auto cell = [](double x) { return std::isnan(x) ? std::string() : io::literal(x); };
+  auto literal_or_blank = [](double x) { return std::isnan(x) ? std::string() : io::literal(x); };
   for (auto& ob : fit.observations)
   {
     double sum2 = 0;
     for (std::size_t i = 0; i < ob.value.size(); ++i, ++j)
     {
       sum2 += r[j] * r[j];
-      rows << ob.label << "," << kinds[int(ob.kind)] << "," << cell(ob.t[i]) << ","
-           << cell(ob.x[i]) << "," << io::literal(ob.value[i]) << "," << io::literal(model[j])
-           << "," << io::literal(ob.sd[i]) << "," << io::literal(r[j]) << "\n";
+      rows << ob.label << "," << kinds[int(ob.kind)] << "," << literal_or_blank(ob.t[i]) << ","
+           << literal_or_blank(ob.x[i]) << "," << io::literal(ob.value[i]) << ","
+           << io::literal(model[j]) << "," << io::literal(ob.sd[i]) << "," << io::literal(r[j])
+           << "\n";
     }
     nlohmann::json e = {{"label", ob.label}, {"kind", kinds[int(ob.kind)]},
                         {"quantity", ob.quantity}, {"points", ob.value.size()},

@@ -138,7 +138,7 @@ const scene::Key* declared_key(const std::string& k)
 }
 
 /// The cells of a CSV line (no quoting), each trimmed.
-std::vector<std::string> cells(const std::string& line)
+std::vector<std::string> split_csv_line(const std::string& line)
 {
   std::vector<std::string> out;
   std::istringstream in(line);
@@ -221,7 +221,8 @@ std::vector<Column> column_roles(const std::vector<std::string>& header, const C
 Cohort read_cohort(const toml::table& ct, const fs::path& file)
 {
   io::KeyErrors errors(file, ct);
-  io::only(ct, {"table", "covariates", "patients"}, file, "cohort.", "[cohort]", errors);
+  io::refuse_unknown_keys(ct, {"table", "covariates", "patients"}, file, "cohort.", "[cohort]",
+                          errors);
   errors.raise();
   Cohort c;
   c.table = io::file_path(file, "cohort.table", ct["table"].node(), "patients' table (CSV)");
@@ -245,14 +246,14 @@ Cohort read_cohort(const toml::table& ct, const fs::path& file)
   };
   if (!next())
     throw Error(table + ": empty: a header (patient,folder,...) and a row per patient");
-  const std::vector<std::string> header = cells(line);
+  const std::vector<std::string> header = split_csv_line(line);
 
   const std::vector<Column> roles = column_roles(header, c, file);
 
   std::set<std::string> ids;
   while (next())
   {
-    const auto row = cells(line);
+    const auto row = split_csv_line(line);
     Patient p;
     p.row = c.patients.size() + 1;
     const std::string where = format("%s line %zu (row %zu)", table.c_str(), number, p.row);
@@ -345,8 +346,8 @@ Parameter read_parameter(const toml::table& pt, std::size_t i, const Fit& fit,
 {
   const fs::path& file = fit.file;
   const std::string where = "parameter[" + std::to_string(i + 1) + "].";
-  io::only(pt, {"key", "label", "start", "bounds", "log", "prior"}, file, where, "[[parameter]]",
-           errors);
+  io::refuse_unknown_keys(pt, {"key", "label", "start", "bounds", "log", "prior"}, file, where,
+                          "[[parameter]]", errors);
   Parameter p;
   if (!pt["key"])
     throw key_error(file, where + "key", "missing: the scene key (or keys) the parameter sets");
@@ -403,7 +404,7 @@ Parameter read_parameter(const toml::table& pt, std::size_t i, const Fit& fit,
     if (!t)
       throw key_error(file, where + "prior", "expected {mean = ..., sd = ...}, got "
                                                  + literal(*prior));
-    io::only(*t, {"mean", "sd"}, file, where + "prior.", "a prior", errors);
+    io::refuse_unknown_keys(*t, {"mean", "sd"}, file, where + "prior.", "a prior", errors);
     p.prior = true;
     p.prior_mean = required(*t, "mean", file, where + "prior.mean", "the measured value");
     p.prior_sd = required(*t, "sd", file, where + "prior.sd", "the measurement's SD");
@@ -452,8 +453,8 @@ Observation read_observation(const toml::table& ot, std::size_t i, const Fit& fi
   };
   if (ot.contains("biomarker"))
   {
-    io::only(ot, {"biomarker", "value", "sd", "label"}, file, where, "a biomarker observation",
-             errors);
+    io::refuse_unknown_keys(ot, {"biomarker", "value", "sd", "label"}, file, where,
+                            "a biomarker observation", errors);
     o.kind = Kind::biomarker;
     o.quantity = ot["biomarker"].value_or(std::string());
     if (const auto* e = biomarkers::find(o.quantity); !e || !e->reading)
@@ -474,17 +475,17 @@ Observation read_observation(const toml::table& ot, std::size_t i, const Fit& fi
     o.kind = curve ? Kind::curve : Kind::profile;
     const std::string name = curve ? "curve" : "profile";
     if (curve)
-      io::only(ot, {"curve", "quantity", "sd", "label"}, file, where, "a curve observation",
-               errors);
+      io::refuse_unknown_keys(ot, {"curve", "quantity", "sd", "label"}, file, where,
+                              "a curve observation", errors);
     else
-      io::only(ot, {"profile", "surface", "reference", "sd", "label"}, file, where,
-               "a profile observation", errors);
+      io::refuse_unknown_keys(ot, {"profile", "surface", "reference", "sd", "label"}, file, where,
+                              "a profile observation", errors);
     if (patient)
     {
-      const auto cell = ot[name].value_exact<std::string>();
-      if (!cell)
+      const auto csv = ot[name].value_exact<std::string>();
+      if (!csv)
         throw key_error(file, where + name, "missing or not a string: CSV file");
-      o.file = patient->folder / *cell;
+      o.file = patient->folder / *csv;
       if (!fs::is_regular_file(o.file))
         throw key_error(file, where + name, "the patient's CSV file " + o.file.string()
                                                 + " not found");
@@ -606,16 +607,18 @@ void apply_patient(Fit& fit, const Patient& patient)
 Fit load_one(const toml::table& t, const fs::path& file, const Patient* patient)
 {
   io::KeyErrors errors(file, t);
-  io::only(t, {"fit", "parameter", "observation", "cohort"}, file, "", "a fit file", errors);
+  io::refuse_unknown_keys(t, {"fit", "parameter", "observation", "cohort"}, file, "", "a fit file",
+                          errors);
   const toml::table* ft = t["fit"].as_table();
   if (!ft)
   {
     errors.add(key_error(file, "fit", "missing: a [fit] table names the base scene").what());
     errors.raise();
   }
-  io::only(*ft, {"scene", "set", "ranks", "jobs", "mpiexec", "launcher", "slurm", "max_iterations",
-                 "step", "differences", "tolerance"},
-           file, "fit.", "[fit]", errors);
+  std::set<std::string> known = {"scene", "set", "ranks", "jobs", "mpiexec", "max_iterations",
+                                 "step", "differences", "tolerance"};
+  known.insert(jobs::launcher_keys().begin(), jobs::launcher_keys().end());
+  io::refuse_unknown_keys(*ft, known, file, "fit.", "[fit]", errors);
   Fit fit;
   fit.file = file;
   if (patient)

@@ -22,8 +22,8 @@ Launcher read_launcher(const toml::table& t, const std::string& section,
   const toml::table* st = t["slurm"].as_table();
   if (!st)
     return l;
-  io::only(*st, {"partition", "account", "time_limit", "cores_per_rank", "options"}, file,
-           slurm + ".", "[" + slurm + "]", errors);
+  io::refuse_unknown_keys(*st, {"partition", "account", "time_limit", "cores_per_rank", "options"},
+                          file, slurm + ".", "[" + slurm + "]", errors);
   auto text = [&](const char* name, std::string& into)
   {
     errors.attempt([&] {

@@ -40,6 +40,7 @@ namespace nct::study
 using io::format;
 using io::key_error;
 using io::literal;
+using io::nan;
 using io::check_name;
 using io::string_list;
 using jobs::read_text;
@@ -64,15 +65,17 @@ fs::path scene_path(const fs::path& file, const std::string& key, const toml::no
 }
 
 
-/// Refuse keys of `t` not in `known`.
-void only(const toml::table& t, const std::set<std::string>& known, const fs::path& file,
-          const std::string& where, io::KeyErrors& errors)
+/// Refuse keys of `t` not in `known`, naming the table they are in by
+/// `where` ("", "study.", "factor[2].", "variant[1].").
+void refuse_unknown_study_keys(const toml::table& t, const std::set<std::string>& known,
+                               const fs::path& file, const std::string& where,
+                               io::KeyErrors& errors)
 {
   const std::string table = where.empty()                    ? "a study file"
                             : where == "study."             ? "[study]"
                             : where.rfind("variant", 0) == 0 ? "[[variant]]"
                                                             : "[[factor]]";
-  io::only(t, known, file, where, table, errors);
+  io::refuse_unknown_keys(t, known, file, where, table, errors);
 }
 
 std::string case_name(std::size_t i, std::size_t n)
@@ -106,7 +109,7 @@ void read_factors(const toml::table& t, Study& s, io::KeyErrors& errors)
     read = errors.attempt([&] {
     const toml::table& ft = *fs_->get(i)->as_table();
     const std::string where = "factor[" + std::to_string(i + 1) + "].";
-    only(ft, {"key", "levels", "label"}, file, where, errors);
+    refuse_unknown_study_keys(ft, {"key", "levels", "label"}, file, where, errors);
     Factor f;
     if (!ft["key"])
       throw key_error(file, where + "key", "missing: the scene key (or keys) the factor sets");
@@ -220,7 +223,7 @@ void read_variants(const toml::table& t, Study& s, io::KeyErrors& errors)
     errors.attempt([&] {
     const toml::table& vt = *vs->get(i)->as_table();
     const std::string where = "variant[" + std::to_string(i + 1) + "].";
-    only(vt, {"name", "scene", "set", "description"}, file, where, errors);
+    refuse_unknown_study_keys(vt, {"name", "scene", "set", "description"}, file, where, errors);
     Variant v;
     auto name = vt["name"].value_exact<std::string>();
     if (!name)
@@ -255,7 +258,7 @@ Study Study::load(const fs::path& file)
 {
   const toml::table t = io::parse_toml(file, "study file");
   io::KeyErrors errors(file, t);
-  only(t, {"study", "factor", "variant"}, file, "", errors);
+  refuse_unknown_study_keys(t, {"study", "factor", "variant"}, file, "", errors);
   const toml::table* st = t["study"].as_table();
   if (!st)
   {
@@ -264,8 +267,10 @@ Study Study::load(const fs::path& file)
                    .what());
     errors.raise();
   }
-  only(*st, {"scene", "design", "responses", "set", "ranks", "jobs", "mpiexec", "launcher", "slurm"},
-       file, "study.", errors);
+  std::set<std::string> known = {"scene", "design", "responses", "set", "ranks", "jobs",
+                                 "mpiexec"};
+  known.insert(jobs::launcher_keys().begin(), jobs::launcher_keys().end());
+  refuse_unknown_study_keys(*st, known, file, "study.", errors);
 
   Study s;
   s.file = file;
@@ -414,8 +419,6 @@ nlohmann::json case_record(const Study& s, std::size_t c)
 // The results table and its analysis
 // ---------------------------------------------------------------------------
 
-const double nan = std::numeric_limits<double>::quiet_NaN();
-
 /// What one case gave.
 struct Result
 {
@@ -436,10 +439,10 @@ std::string number(double v)
 /// A JSON number, or null for NaN and infinities (JSON has neither).
 nlohmann::json json_number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
-/// Does case c show factor i's effect? Every case of a factorial; one
-/// factor at a time, the cases that vary i and the base (every factor at
-/// the scene's value).
-bool shows(const Study& s, const Case& c, std::size_t i)
+/// Is case c among those that show factor i's effect? Every case of a
+/// factorial; one factor at a time, the cases that vary i and the base
+/// (every factor at the scene's value).
+bool compared_for(const Study& s, const Case& c, std::size_t i)
 {
   return s.design == "factorial" || c.levels[i] >= 0
          || std::all_of(c.levels.begin(), c.levels.end(), [](int l) { return l < 0; });
@@ -580,7 +583,7 @@ void analyse(const Study& s, const std::vector<Result>& results, const fs::path&
         double lo = INFINITY, hi = -INFINITY, y_lo = nan, y_hi = nan;
         for (std::size_t c = 0; c < n; ++c)
         {
-          if (!shows(s, s.cases[c], i))
+          if (!compared_for(s, s.cases[c], i))
             continue;
           const double x = value(s, s.cases[c], i);
           if (x < lo)
@@ -613,7 +616,7 @@ void analyse(const Study& s, const std::vector<Result>& results, const fs::path&
     {
       std::vector<double> x, ys;
       for (std::size_t c = 0; c < n; ++c)
-        if (shows(s, s.cases[c], i))
+        if (compared_for(s, s.cases[c], i))
         {
           x.push_back(value(s, s.cases[c], i));
           ys.push_back(y[c]);
@@ -681,8 +684,8 @@ void analyse(const Study& s, const std::vector<Result>& results, const fs::path&
   io::write_atomic(out / "analysis.json", json.dump(2) + "\n");
 }
 
-/// A table cell: empty where there is no number.
-std::string cell(double v) { return std::isfinite(v) ? number(v) : ""; }
+/// A number in a table, or nothing where it is not finite.
+std::string number_or_blank(double v) { return std::isfinite(v) ? number(v) : ""; }
 
 /// An ablation's variants against its baseline into the study folder
 /// (ablation.csv, analysis.json); a table per response on stdout.
@@ -754,8 +757,9 @@ void analyse_ablation(const Study& s, const std::vector<Result>& results, const 
     for (std::size_t j = 0; j < s.responses.size(); ++j)
     {
       const Comparison& k = table[j][c];
-      csv << s.variants[s.cases[c].variant].name << "," << s.responses[j] << "," << cell(k.value)
-          << "," << cell(k.difference) << "," << cell(k.percent) << "\n";
+      csv << s.variants[s.cases[c].variant].name << "," << s.responses[j] << ","
+          << number_or_blank(k.value) << "," << number_or_blank(k.difference) << ","
+          << number_or_blank(k.percent) << "\n";
     }
   io::write_atomic(out / "ablation.csv", csv.str());
   io::write_atomic(out / "analysis.json", json.dump(2) + "\n");
