@@ -1,7 +1,6 @@
 // Reading and validating a study file (cpp/study/study.h): its [study]
 // table, its factors or variants, and every case's scene.
 #include <algorithm>
-#include <thread>
 
 #include <toml++/toml.h>
 
@@ -275,20 +274,10 @@ std::pair<bool, bool> read_study_table(const toml::table& st, Study& s, io::KeyE
       s.sets = string_list(*set, file, "study.set", false);
   });
 
-  auto integer = [&](const char* key, long def, long lo, long hi)
-  { return io::integer(st, "study", key, def, lo, hi, file); };
-  s.ranks = 1;
-  errors.attempt([&] { s.ranks = integer("ranks", 1, 1, 4096); });
-  errors.attempt([&] {
-    const long cores = std::max(1u, std::thread::hardware_concurrency());
-    s.jobs = integer("jobs", std::max(1L, cores / s.ranks), 1, 4096);
-  });
-  errors.attempt([&] {
-    s.mpiexec = st["mpiexec"].value_or<std::string>("mpiexec --bind-to none");
-    if (s.mpiexec.find_first_not_of(" \t") == std::string::npos)
-      throw key_error(file, "study.mpiexec",
-                      "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
-  });
+  const jobs::RunKeys runs = jobs::read_run_keys(st, "study", file, errors);
+  s.ranks = runs.ranks;
+  s.jobs = runs.jobs;
+  s.mpiexec = runs.mpiexec;
   s.launcher = jobs::read_launcher(st, "study", file, errors);
   return {scene_read, design_read};
 }
