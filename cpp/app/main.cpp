@@ -1,4 +1,4 @@
-// nct: the command-line front end (check, run, study, describe).
+// nct: the command-line front end (check, run, study, fit, describe).
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <iostream>
@@ -48,66 +48,214 @@ void test_divergence(std::vector<std::string>& sets)
       sets.insert(sets.end(), {"solver.max_iterations=1", "solver.max_step_cuts=0"});
 }
 
+/// The command line of `nct check` and `nct run`.
+struct SceneArgs
+{
+  std::string scene_file, out, resume, petsc;
+  std::vector<std::string> sets;
+};
+
+/// The command line of `nct study` and `nct fit`.
+struct DriverArgs
+{
+  std::string file, out, launcher, patient;
+  int jobs = 0;
+  bool dry_run = false;
+};
+
+/// The command line of `nct describe`.
+struct DescribeArgs
+{
+  bool markdown = false, biomarkers = false;
+};
+
+CLI::App* add_check(CLI::App& app, SceneArgs& a)
+{
+  auto* check = app.add_subcommand("check", "validate a scene file and exit");
+  check->add_option("scene", a.scene_file, "scene file (TOML)")->required();
+  check->add_option("--set", a.sets, "override a key: section.key=value");
+  return check;
+}
+
+CLI::App* add_run(CLI::App& app, SceneArgs& a)
+{
+  auto* run = app.add_subcommand("run", "run a scene into a run folder");
+  run->add_option("scene", a.scene_file, "scene file (TOML)")->required();
+  run->add_option("--set", a.sets, "override a key: section.key=value");
+  auto* out_option = run->add_option("--out", a.out, "run folder (default: runs/<scene name>)");
+  run->add_option("--resume", a.resume,
+                  "continue the run in this folder from its last checkpoint "
+                  "(checkpoint.steps; the same scene, --set and --petsc, any rank count)")
+      ->excludes(out_option);
+  run->add_option("--petsc", a.petsc, "PETSc options, e.g. \"-ksp_type cg -pc_type gamg\"");
+  return run;
+}
+
+CLI::App* add_study(CLI::App& app, DriverArgs& a)
+{
+  auto* study = app.add_subcommand("study", "run a study (a design over a scene's keys) and "
+                                            "analyse it; resumes an interrupted one");
+  study->add_option("study", a.file, "study file (TOML)")->required();
+  study->add_option("--out", a.out, "study folder (default: studies/<study name>)");
+  study->add_option("--jobs", a.jobs, "cases at once (default: the study's)")
+      ->check(CLI::Range(1, 4096));
+  study->add_flag("--dry-run", a.dry_run, "check every case and list them; run none");
+  study->add_option("--launcher", a.launcher, "where the cases run (default: the study's)")
+      ->check(CLI::IsMember({"local", "slurm"}));
+  return study;
+}
+
+CLI::App* add_fit(CLI::App& app, DriverArgs& a)
+{
+  auto* fit = app.add_subcommand("fit", "fit scene keys (stiffness, IOP...) to a patient's "
+                                        "readings; resumes an interrupted fit");
+  fit->add_option("fit", a.file, "fit file (TOML)")->required();
+  fit->add_option("--out", a.out, "fit folder (default: fits/<fit name>)");
+  fit->add_option("--jobs", a.jobs, "forward runs at once (default: the fit's)")
+      ->check(CLI::Range(1, 4096));
+  fit->add_flag("--dry-run", a.dry_run, "check the fit file and the start's scene; run nothing");
+  fit->add_option("--launcher", a.launcher, "where the forward runs go (default: the fit's)")
+      ->check(CLI::IsMember({"local", "slurm"}));
+  fit->add_option("--patient", a.patient, "a cohort's fit file: fit this patient (a row of "
+                                          "its table) only");
+  return fit;
+}
+
+CLI::App* add_describe(CLI::App& app, DescribeArgs& a)
+{
+  auto* describe = app.add_subcommand("describe", "print every scene key with its documentation");
+  describe->add_flag("--markdown", a.markdown, "as a Markdown table");
+  describe->add_flag("--biomarkers", a.biomarkers,
+                     "the biomarker registry instead: every summary.json value studies compare "
+                     "and fits read, with its unit and meaning (JSON, or --markdown)");
+  return describe;
+}
+
+/// nct study: the study file's cases run (or resumed) into its folder.
+int run_study(const DriverArgs& a, const std::filesystem::path& program)
+{
+  auto s = nct::study::Study::load(a.file);
+  nct::study::Options options;
+  options.out = a.out.empty() ? std::filesystem::path("studies")
+                                    / std::filesystem::path(a.file).stem()
+                              : std::filesystem::path(a.out);
+  options.program = program;
+  options.jobs = a.jobs;
+  options.dry_run = a.dry_run;
+  options.launcher = a.launcher;
+  return nct::study::run(s, options);
+}
+
+/// nct fit: the fit (or a cohort's fits, or one patient's) run or resumed
+/// into its folder.
+int run_fit(const DriverArgs& a, const std::filesystem::path& program)
+{
+  auto f = nct::fit::Fit::load(a.file, a.patient);
+  nct::fit::Options options;
+  options.out = a.out.empty() ? std::filesystem::path("fits") / std::filesystem::path(a.file).stem()
+                                    / (a.patient.empty() ? "" : "patients/" + a.patient)
+                              : std::filesystem::path(a.out);
+  options.program = program;
+  options.jobs = a.jobs;
+  options.dry_run = a.dry_run;
+  options.launcher = a.launcher;
+  return f.cohort ? nct::fit::run_cohort(f, options) : nct::fit::run(f, options);
+}
+
+/// A study or a fit: a driver that starts each run as an MPI job of its
+/// own, no MPI process itself. Its exit code (bad input: 2).
+int drive(const std::string& verb, const DriverArgs& a)
+{
+  if (const char* size = std::getenv("OMPI_COMM_WORLD_SIZE"); size && std::atoi(size) > 1)
+  {
+    std::cerr << "error: nct " << verb << " starts an MPI job per run: run it without mpirun "
+              << "(" << verb << ".ranks sets the ranks of each run)" << std::endl;
+    return 2;
+  }
+  try
+  {
+    const auto program = std::filesystem::read_symlink("/proc/self/exe");
+    return verb == "fit" ? run_fit(a, program) : run_study(a, program);
+  }
+  catch (const nct::scene::Error& e)
+  {
+    std::cerr << "error: " << e.what() << std::endl;
+    return 2;
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "error: " << e.what() << std::endl;
+    return 1;
+  }
+}
+
+/// nct check or nct run (`run`) of a scene, on the ranks of this MPI job.
+/// Its exit code: 2 for bad input, 3 when the run diverged.
+int run_scene(char* argv0, SceneArgs& a, bool run)
+{
+  nct::Runtime runtime(argv0);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  try
+  {
+    if (run)
+      test_divergence(a.sets);
+    const nct::Input input = nct::read(MPI_COMM_WORLD, a.scene_file, a.sets);
+    if (!run)
+    {
+      if (rank == 0)
+        std::cout << a.scene_file << ": ok\n";
+      return 0;
+    }
+    nct::RunOptions options;
+    options.out = a.out.empty() ? std::filesystem::path("runs")
+                                      / std::filesystem::path(a.scene_file).stem()
+                                : std::filesystem::path(a.out);
+    options.petsc = parse_petsc(a.petsc);
+    if (!a.resume.empty())
+      options.out = a.resume, options.resume = true;
+    nct::run(MPI_COMM_WORLD, input, options);
+    return 0;
+  }
+  catch (const nct::scene::Error& e)
+  {
+    if (rank == 0)
+      std::cerr << "error: " << e.what() << std::endl;
+    return 2;
+  }
+  catch (const nct::io::CheckpointError& e)
+  {
+    if (rank == 0)
+      std::cerr << "error: " << e.what() << std::endl;
+    return 2;
+  }
+  catch (const nct::Diverged& e)
+  {
+    if (rank == 0)
+      std::cerr << "error: " << e.what() << std::endl;
+    return 3;
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "error (rank " << rank << "): " << e.what() << std::endl;
+    return 1;
+  }
+}
+
 } // namespace
 
 int main(int argc, char* argv[])
 {
   CLI::App app{"nct: in-silico non-contact tonometry (Corvis ST air-puff test)"};
   app.require_subcommand(1);
-  std::string scene_file, out, petsc;
-  std::vector<std::string> sets;
-  bool markdown = false;
-
-  auto* check = app.add_subcommand("check", "validate a scene file and exit");
-  check->add_option("scene", scene_file, "scene file (TOML)")->required();
-  check->add_option("--set", sets, "override a key: section.key=value");
-
-  auto* run = app.add_subcommand("run", "run a scene into a run folder");
-  run->add_option("scene", scene_file, "scene file (TOML)")->required();
-  run->add_option("--set", sets, "override a key: section.key=value");
-  std::string resume;
-  auto* out_option = run->add_option("--out", out, "run folder (default: runs/<scene name>)");
-  run->add_option("--resume", resume,
-                  "continue the run in this folder from its last checkpoint "
-                  "(checkpoint.steps; the same scene, --set and --petsc, any rank count)")
-      ->excludes(out_option);
-  run->add_option("--petsc", petsc, "PETSc options, e.g. \"-ksp_type cg -pc_type gamg\"");
-
-  std::string study_file;
-  int jobs = 0;
-  bool dry_run = false;
-  auto* study = app.add_subcommand("study", "run a study (a design over a scene's keys) and "
-                                            "analyse it; resumes an interrupted one");
-  study->add_option("study", study_file, "study file (TOML)")->required();
-  study->add_option("--out", out, "study folder (default: studies/<study name>)");
-  study->add_option("--jobs", jobs, "cases at once (default: the study's)")
-      ->check(CLI::Range(1, 4096));
-  study->add_flag("--dry-run", dry_run, "check every case and list them; run none");
-  std::string launcher;
-  study->add_option("--launcher", launcher, "where the cases run (default: the study's)")
-      ->check(CLI::IsMember({"local", "slurm"}));
-
-  std::string fit_file;
-  auto* fit = app.add_subcommand("fit", "fit scene keys (stiffness, IOP...) to a patient's "
-                                        "readings; resumes an interrupted fit");
-  fit->add_option("fit", fit_file, "fit file (TOML)")->required();
-  fit->add_option("--out", out, "fit folder (default: fits/<fit name>)");
-  fit->add_option("--jobs", jobs, "forward runs at once (default: the fit's)")
-      ->check(CLI::Range(1, 4096));
-  fit->add_flag("--dry-run", dry_run, "check the fit file and the start's scene; run nothing");
-  fit->add_option("--launcher", launcher, "where the forward runs go (default: the fit's)")
-      ->check(CLI::IsMember({"local", "slurm"}));
-  std::string patient;
-  fit->add_option("--patient", patient, "a cohort's fit file: fit this patient (a row of "
-                                        "its table) only");
-
-  auto* describe = app.add_subcommand("describe", "print every scene key with its documentation");
-  describe->add_flag("--markdown", markdown, "as a Markdown table");
-  bool biomarkers = false;
-  describe->add_flag("--biomarkers", biomarkers,
-                     "the biomarker registry instead: every summary.json value studies compare "
-                     "and fits read, with its unit and meaning (JSON, or --markdown)");
-
+  SceneArgs scene;
+  DriverArgs driver;
+  DescribeArgs listing;
+  add_check(app, scene);
+  auto* run = add_run(app, scene);
+  auto* study = add_study(app, driver);
+  auto* fit = add_fit(app, driver);
+  auto* describe = add_describe(app, listing);
   try
   {
     app.parse(argc, argv);
@@ -123,111 +271,11 @@ int main(int argc, char* argv[])
 
   if (describe->parsed())
   {
-    std::cout << (biomarkers ? nct::biomarkers::describe(markdown)
-                             : nct::scene::describe(markdown));
+    std::cout << (listing.biomarkers ? nct::biomarkers::describe(listing.markdown)
+                                     : nct::scene::describe(listing.markdown));
     return 0;
   }
-
-  // A study or a fit starts each run as an MPI job of its own: it is no
-  // MPI process itself.
   if (study->parsed() || fit->parsed())
-  {
-    const std::string verb = study->parsed() ? "study" : "fit";
-    if (const char* size = std::getenv("OMPI_COMM_WORLD_SIZE"); size && std::atoi(size) > 1)
-    {
-      std::cerr << "error: nct " << verb << " starts an MPI job per run: run it without mpirun "
-                << "(" << verb << ".ranks sets the ranks of each run)" << std::endl;
-      return 2;
-    }
-    try
-    {
-      const auto program = std::filesystem::read_symlink("/proc/self/exe");
-      if (fit->parsed())
-      {
-        auto f = nct::fit::Fit::load(fit_file, patient);
-        nct::fit::Options options;
-        options.out = out.empty() ? std::filesystem::path("fits")
-                                        / std::filesystem::path(fit_file).stem()
-                                        / (patient.empty() ? "" : "patients/" + patient)
-                                  : std::filesystem::path(out);
-        options.program = program;
-        options.jobs = jobs;
-        options.dry_run = dry_run;
-        options.launcher = launcher;
-        return f.cohort ? nct::fit::run_cohort(f, options) : nct::fit::run(f, options);
-      }
-      auto s = nct::study::Study::load(study_file);
-      nct::study::Options options;
-      options.out = out.empty() ? std::filesystem::path("studies")
-                                      / std::filesystem::path(study_file).stem()
-                                : std::filesystem::path(out);
-      options.program = program;
-      options.jobs = jobs;
-      options.dry_run = dry_run;
-      options.launcher = launcher;
-      return nct::study::run(s, options);
-    }
-    catch (const nct::scene::Error& e)
-    {
-      std::cerr << "error: " << e.what() << std::endl;
-      return 2;
-    }
-    catch (const std::exception& e)
-    {
-      std::cerr << "error: " << e.what() << std::endl;
-      return 1;
-    }
-  }
-
-  nct::Runtime runtime(argv[0]);
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-
-  int code = 0;
-  try
-  {
-    if (run->parsed())
-      test_divergence(sets);
-    const nct::Input input = nct::read(MPI_COMM_WORLD, scene_file, sets);
-    if (check->parsed())
-    {
-      if (rank == 0)
-        std::cout << scene_file << ": ok\n";
-    }
-    else
-    {
-      nct::RunOptions options;
-      options.out = out.empty() ? std::filesystem::path("runs")
-                                      / std::filesystem::path(scene_file).stem()
-                                : std::filesystem::path(out);
-      options.petsc = parse_petsc(petsc);
-      if (!resume.empty())
-        options.out = resume, options.resume = true;
-      nct::run(MPI_COMM_WORLD, input, options);
-    }
-  }
-  catch (const nct::scene::Error& e)
-  {
-    if (rank == 0)
-      std::cerr << "error: " << e.what() << std::endl;
-    code = 2;
-  }
-  catch (const nct::io::CheckpointError& e)
-  {
-    if (rank == 0)
-      std::cerr << "error: " << e.what() << std::endl;
-    code = 2;
-  }
-  catch (const nct::Diverged& e)
-  {
-    if (rank == 0)
-      std::cerr << "error: " << e.what() << std::endl;
-    code = 3;
-  }
-  catch (const std::exception& e)
-  {
-    std::cerr << "error (rank " << rank << "): " << e.what() << std::endl;
-    code = 1;
-  }
-  return code;
+    return drive(study->parsed() ? "study" : "fit", driver);
+  return run_scene(argv[0], scene, run->parsed());
 }

@@ -14,6 +14,7 @@
 #include "io/toml_input.h"
 #include "jobs/jobs.h"
 #include "jobs/launcher_input.h"
+#include "jobs/run_cache.h"
 #include "scene/scene.h"
 
 namespace nct::fit
@@ -25,7 +26,7 @@ namespace
 {
 
 /// A patient's row as recorded in its folder: a changed row is fitted again.
-nlohmann::json record(const Patient& p)
+nlohmann::json patient_record(const Patient& p)
 {
   return {{"patient", p.id},    {"folder", fs::absolute(p.folder).lexically_normal()},
           {"sets", p.sets},     {"priors", p.priors},
@@ -33,7 +34,7 @@ nlohmann::json record(const Patient& p)
 }
 
 /// A CSV cell: a number as written back exactly, text as it is, none empty.
-std::string cell(const nlohmann::ordered_json& v)
+std::string csv_cell(const nlohmann::ordered_json& v)
 {
   if (v.is_number_integer())
     return std::to_string(v.get<long>());
@@ -51,7 +52,7 @@ std::string cell(const nlohmann::ordered_json& v)
 }
 
 /// One row of the cohort's table from a patient's fit.json (null: not fitted).
-nlohmann::ordered_json row(const Patient& p, const nlohmann::json& result,
+nlohmann::ordered_json cohort_row(const Patient& p, const nlohmann::json& result,
                            const std::string& status)
 {
   nlohmann::ordered_json r = nlohmann::ordered_json::object();
@@ -121,7 +122,7 @@ std::string to_csv(const nlohmann::ordered_json& rows)
   for (auto& r : rows)
   {
     for (std::size_t c = 0; c < cols.size(); ++c)
-      csv << (c ? "," : "") << (r.contains(cols[c]) ? cell(r[cols[c]]) : "");
+      csv << (c ? "," : "") << (r.contains(cols[c]) ? csv_cell(r[cols[c]]) : "");
     csv << "\n";
   }
   return csv.str();
@@ -160,137 +161,106 @@ void check_patients(const Fit& fit, const Options& o, int at_once)
   fs::remove_all(dir);
 }
 
-} // namespace
-
-int run_cohort(const Fit& fit, const Options& o)
+/// How the jobs (forward runs at once) are shared among the patients
+/// fitted at once: by default a job each, so that no job waits while a
+/// patient's iteration finishes its last runs (a cohort's throughput, not
+/// a patient's latency).
+struct Sharing
 {
-  const auto start = std::chrono::steady_clock::now();
-  const Cohort& cohort = *fit.cohort;
-  fs::create_directories(o.out / "patients");
-  if (fs::exists(o.out / "fit.toml")
-      && jobs::read_text(o.out / "fit.toml") != jobs::read_text(fit.file))
-    throw scene::Error(fit.file.string() + ": " + o.out.string() + " holds another cohort (its "
-                       "fit.toml differs); give a new --out or remove it");
-  jobs::catch_interrupts();
-  // Slurm must take the options before any patient's fit starts.
-  jobs::launcher_for(fit.launcher, o.launcher, o.out, fit.ranks, "fit", fit.file);
+  int jobs;        ///< forward runs at once in all
+  int at_once;     ///< patients fitted at once
+  int per_patient; ///< forward runs at once of each
+};
 
-  // The jobs (forward runs at once) shared among the patients fitted at
-  // once: by default a job each, so that no job waits while a patient's
-  // iteration finishes its last runs (a cohort's throughput, not a
-  // patient's latency).
+Sharing share_jobs(const Fit& fit, const Options& o)
+{
   const int jobs = o.jobs > 0 ? o.jobs : fit.jobs;
-  const int n = int(cohort.patients.size());
-  const int at_once = std::min(n, cohort.at_once > 0 ? cohort.at_once : jobs);
-  const int per_patient = std::max(1, jobs / at_once);
+  const int at_once = std::min(int(fit.cohort->patients.size()),
+                               fit.cohort->at_once > 0 ? fit.cohort->at_once : jobs);
+  return {jobs, at_once, std::max(1, jobs / at_once)};
+}
 
-  check_patients(fit, o, jobs);
-  if (jobs::interrupted())
-    return 130;
-
-  std::vector<jobs::Job> todo;
-  std::vector<std::size_t> index; // todo -> patient
-  int kept = 0;
-  for (std::size_t i = 0; i < cohort.patients.size(); ++i)
+/// The patients to fit (their indices; the others' fits are kept) and
+/// their jobs: each an `nct fit --patient` into its folder, where its row
+/// is recorded and its fit resumes from the forward runs it has.
+std::vector<std::size_t> patients_to_fit(const Fit& fit, const Options& o,
+                                         const jobs::RunCache& fits, int per_patient,
+                                         std::vector<jobs::Job>& todo)
+{
+  std::vector<std::size_t> index;
+  for (std::size_t i = 0; i < fit.cohort->patients.size(); ++i)
   {
-    const Patient& p = cohort.patients[i];
-    const fs::path dir = o.out / "patients" / p.id;
-    const std::string row_json = record(p).dump(2) + "\n";
-    if (fs::exists(dir / "fit.json") && jobs::read_text(dir / "patient.json") == row_json)
-    {
-      ++kept;
+    const Patient& p = fit.cohort->patients[i];
+    const nlohmann::json row = patient_record(p);
+    if (fits.reusable(p.id, row))
       continue;
-    }
+    const fs::path dir = fits.path(p.id);
     std::vector<std::string> argv = {o.program.string(), "fit", fs::absolute(fit.file).string(),
                                      "--patient", p.id, "--out", fs::absolute(dir).string(),
                                      "--jobs", std::to_string(per_patient)};
     if (!o.launcher.empty())
       argv.insert(argv.end(), {"--launcher", o.launcher});
-    todo.push_back({argv, fs::absolute(dir / "fit.log"), 1, "", [dir, row_json]
-                    {
-                      fs::create_directories(dir);
-                      fs::remove(dir / "fit.json"); // a changed row's old answer
-                      io::write_atomic(dir / "patient.json", row_json);
-                    }});
+    todo.push_back({argv, fs::absolute(dir / "fit.log"), 1, "", nullptr});
+    fits.prepare(todo.back(), p.id, row, jobs::RunCache::Restart::resume);
     index.push_back(i);
   }
-  std::cout << "cohort " << fit.file.string() << ": " << n << " patient(s) from "
-            << cohort.table.string() << ", " << fit.parameters.size() << " parameter(s) each; "
-            << at_once << " patient(s) at once, " << per_patient << " forward run(s) at once "
-            << "each -> " << o.out.string() << " (" << kept << " fitted before)" << std::endl;
-  if (o.dry_run)
-  {
-    std::cout << "cohort: every patient's fit checks out; nothing run (--dry-run)" << std::endl;
-    return 0;
-  }
-  io::write_atomic(o.out / "fit.toml", jobs::read_text(fit.file));
+  return index;
+}
 
-  int finished = kept;
-  const bool complete = jobs::run(todo, at_once, [&](std::size_t k, int code)
-  {
-    const Patient& p = cohort.patients[index[k]];
-    const fs::path dir = o.out / "patients" / p.id;
-    ++finished;
-    const double wall
-        = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::string line = format("patient %-12s ", p.id.c_str());
-    if (code == 130 || jobs::interrupted())
-      line += "interrupted";
-    else if (!fs::exists(dir / "fit.json"))
-      line += format("failed (exit %d): %s", code,
-                     jobs::tail(jobs::read_text(dir / "fit.log"), 2).c_str());
-    else
-    {
-      const auto r = nlohmann::json::parse(jobs::read_text(dir / "fit.json"));
-      line += r["status"].get<std::string>();
-      for (auto& q : r["parameters"])
-        line += format("  %s %.5g", q["label"].get<std::string>().c_str(),
-                       q["value"].get<double>())
-                + (q["se"].is_null() ? std::string(" (no SE)")
-                                     : format(" +- %.2g", q["se"].get<double>()));
-      line += format("  chi2/dof %.3g  %d runs", r["reduced_chi2"].get<double>(),
-                     r["forward_runs"].get<int>());
-    }
-    std::cout << line << format("  [%d/%d, %.0f s]", finished, n, wall) << std::endl;
-  });
-  if (!complete)
-  {
-    std::cerr << "cohort: interrupted; the same command resumes it (finished patients are "
-                 "kept, the others' forward runs too)"
-              << std::endl;
-    return 130;
-  }
+/// A patient's line when its fit ends (exit `code`): its parameters, or
+/// why it failed.
+std::string patient_line(const Patient& p, const fs::path& dir, int code)
+{
+  std::string line = format("patient %-12s ", p.id.c_str());
+  if (code == 130 || jobs::interrupted())
+    return line + "interrupted";
+  if (!fs::exists(dir / "fit.json"))
+    return line + format("failed (exit %d): %s", code,
+                         jobs::tail(jobs::read_text(dir / "fit.log"), 2).c_str());
+  const auto r = nlohmann::json::parse(jobs::read_text(dir / "fit.json"));
+  line += r["status"].get<std::string>();
+  for (auto& q : r["parameters"])
+    line += format("  %s %.5g", q["label"].get<std::string>().c_str(), q["value"].get<double>())
+            + (q["se"].is_null() ? std::string(" (no SE)")
+                                 : format(" +- %.2g", q["se"].get<double>()));
+  line += format("  chi2/dof %.3g  %d runs", r["reduced_chi2"].get<double>(),
+                 r["forward_runs"].get<int>());
+  return line;
+}
 
-  // The table: a row per patient, fitted or not.
+/// cohort.csv and cohort.json: a row per patient, fitted or not; the
+/// closing line. Returns the exit code: 0 when every fit converged, else 3.
+int report_cohort(const Fit& fit, const Options& o, const jobs::RunCache& fits,
+                  const Sharing& sharing, double wall)
+{
+  const Cohort& cohort = *fit.cohort;
+  const int n = int(cohort.patients.size());
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   int converged = 0, inside = 0, with_truth = 0;
   for (const Patient& p : cohort.patients)
   {
-    const fs::path dir = o.out / "patients" / p.id;
     nlohmann::json result;
     std::string status = "failed";
-    if (fs::exists(dir / "fit.json"))
+    if (fs::exists(fits.path(p.id) / "fit.json"))
     {
-      result = nlohmann::json::parse(jobs::read_text(dir / "fit.json"));
+      result = nlohmann::json::parse(jobs::read_text(fits.path(p.id) / "fit.json"));
       status = result["status"];
     }
     converged += status == "converged";
-    rows.push_back(row(p, result, status));
+    rows.push_back(cohort_row(p, result, status));
     for (auto& [label, truth] : p.truths)
       if (rows.back().contains(label + "_inside"))
         ++with_truth, inside += rows.back()[label + "_inside"].get<bool>();
   }
   io::write_atomic(o.out / "cohort.csv", to_csv(rows));
-  const double wall
-      = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::ordered_json out = {{"fit", fs::absolute(fit.file).string()},
-                        {"table", fs::absolute(cohort.table).string()},
-                        {"patients", n},
-                        {"converged", converged},
-                        {"patients_at_once", at_once},
-                        {"jobs_per_patient", per_patient},
-                        {"wall_s", wall},
-                        {"rows", rows}};
+                                {"table", fs::absolute(cohort.table).string()},
+                                {"patients", n},
+                                {"converged", converged},
+                                {"patients_at_once", sharing.at_once},
+                                {"jobs_per_patient", sharing.per_patient},
+                                {"wall_s", wall},
+                                {"rows", rows}};
   if (with_truth)
     out["truths_inside_ci95"] = {{"held", inside}, {"of", with_truth}};
   io::write_atomic(o.out / "cohort.json", out.dump(2) + "\n");
@@ -301,6 +271,60 @@ int run_cohort(const Fit& fit, const Options& o)
             << "; plots: /usr/bin/python3 scripts/plot-cohort.py " << o.out.string()
             << std::endl;
   return converged == n ? 0 : 3;
+}
+
+} // namespace
+
+int run_cohort(const Fit& fit, const Options& o)
+{
+  const auto start = std::chrono::steady_clock::now();
+  auto seconds = [&]
+  { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  const Cohort& cohort = *fit.cohort;
+  const jobs::RunCache fits(o.out / "patients", "patient.json", "fit.json");
+  if (fs::exists(o.out / "fit.toml")
+      && jobs::read_text(o.out / "fit.toml") != jobs::read_text(fit.file))
+    throw scene::Error(fit.file.string() + ": " + o.out.string() + " holds another cohort (its "
+                       "fit.toml differs); give a new --out or remove it");
+  jobs::catch_interrupts();
+  // Slurm must take the options before any patient's fit starts.
+  jobs::launcher_for(fit.launcher, o.launcher, o.out, fit.ranks, "fit", fit.file);
+  const Sharing sharing = share_jobs(fit, o);
+  check_patients(fit, o, sharing.jobs);
+  if (jobs::interrupted())
+    return 130;
+
+  std::vector<jobs::Job> todo;
+  const std::vector<std::size_t> index = patients_to_fit(fit, o, fits, sharing.per_patient, todo);
+  const int n = int(cohort.patients.size()), kept = n - int(todo.size());
+  std::cout << "cohort " << fit.file.string() << ": " << n << " patient(s) from "
+            << cohort.table.string() << ", " << fit.parameters.size() << " parameter(s) each; "
+            << sharing.at_once << " patient(s) at once, " << sharing.per_patient
+            << " forward run(s) at once each -> " << o.out.string() << " (" << kept
+            << " fitted before)" << std::endl;
+  if (o.dry_run)
+  {
+    std::cout << "cohort: every patient's fit checks out; nothing run (--dry-run)" << std::endl;
+    return 0;
+  }
+  io::write_atomic(o.out / "fit.toml", jobs::read_text(fit.file));
+
+  int finished = kept;
+  const bool complete = jobs::run(todo, sharing.at_once, [&](std::size_t k, int code)
+  {
+    const Patient& p = cohort.patients[index[k]];
+    ++finished;
+    std::cout << patient_line(p, fits.path(p.id), code)
+              << format("  [%d/%d, %.0f s]", finished, n, seconds()) << std::endl;
+  });
+  if (!complete)
+  {
+    std::cerr << "cohort: interrupted; the same command resumes it (finished patients are "
+                 "kept, the others' forward runs too)"
+              << std::endl;
+    return 130;
+  }
+  return report_cohort(fit, o, fits, sharing, seconds());
 }
 
 } // namespace nct::fit

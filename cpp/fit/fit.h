@@ -5,6 +5,7 @@
 // as a study's case, cached so that an interrupted fit resumes.
 #pragma once
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -26,6 +27,12 @@ struct Parameter
   bool log;                      ///< fitted as log(value) (lower > 0)
   bool prior = false;            ///< a measured value with its SD (e.g. IOP by tonometry)
   double prior_mean = 0, prior_sd = 0;
+
+  /// The value at the fitted variable theta, and back: on a log scale the
+  /// variable is log(value / start), so that the start's value is exact
+  /// (0.05, not 0.05000000000000001); else the value itself.
+  double value(double theta) const { return log ? start * std::exp(theta) : theta; }
+  double variable(double value) const { return log ? std::log(value / start) : value; }
 };
 
 /// What an observation compares.

@@ -4,7 +4,6 @@
 #include <fstream>
 #include <set>
 #include <sstream>
-#include <thread>
 
 #include "biomarkers/registry.h"
 #include "fit/fit.h"
@@ -138,7 +137,7 @@ const scene::Key* declared_key(const std::string& k)
 }
 
 /// The cells of a CSV line (no quoting), each trimmed.
-std::vector<std::string> cells(const std::string& line)
+std::vector<std::string> split_csv_line(const std::string& line)
 {
   std::vector<std::string> out;
   std::istringstream in(line);
@@ -216,12 +215,106 @@ std::vector<Column> column_roles(const std::vector<std::string>& header, const C
   return roles;
 }
 
+/// A number in cell i of a patients' table's row (`where` names the row).
+double real_cell(const std::vector<std::string>& row, const std::vector<std::string>& header,
+                 std::size_t i, const std::string& where)
+{
+  std::size_t used = 0;
+  double v = NAN;
+  try
+  {
+    v = std::stod(row[i], &used);
+  }
+  catch (const std::exception&)
+  {
+  }
+  if (used != row[i].size() || !std::isfinite(v))
+    throw Error(format("%s, column '%s': expected a number, got '%s'", where.c_str(),
+                       header[i].c_str(), row[i].c_str()));
+  return v;
+}
+
+/// One patient from a row of the patients' table (the `number`-th, at
+/// `where`): each cell by its column's role; an empty cell keeps the fit
+/// file's (or the scene's) value. Its id must be none of `ids`, the rows'
+/// before.
+Patient read_patient(const std::vector<std::string>& row, const std::vector<std::string>& header,
+                     const std::vector<Column>& roles, const Cohort& c, std::size_t number,
+                     const std::string& where, const std::set<std::string>& ids)
+{
+  Patient p;
+  p.row = number;
+  if (row.size() != header.size())
+    throw Error(format("%s: %zu cells for the header's %zu columns", where.c_str(), row.size(),
+                       header.size()));
+  std::map<std::string, double> means, sds;
+  for (std::size_t i = 0; i < row.size(); ++i)
+  {
+    const auto& [role, name] = roles[i];
+    if (row[i].empty() && role != Role::patient && role != Role::folder)
+      continue; // the fit file's (or the scene's) value
+    switch (role)
+    {
+    case Role::patient:
+      p.id = row[i];
+      break;
+    case Role::folder:
+      p.folder = c.table.parent_path() / row[i];
+      break;
+    case Role::key:
+      p.sets.push_back(name + "=" + row[i]);
+      break;
+    case Role::prior_mean:
+      means[name] = real_cell(row, header, i, where);
+      break;
+    case Role::prior_sd:
+      sds[name] = real_cell(row, header, i, where);
+      if (!(sds[name] > 0))
+        throw Error(format("%s, column '%s': must be above 0, got %s", where.c_str(),
+                           header[i].c_str(), row[i].c_str()));
+      break;
+    case Role::truth:
+      p.truths[name] = real_cell(row, header, i, where);
+      break;
+    case Role::covariate:
+      p.covariates.push_back({name, row[i]});
+      break;
+    }
+  }
+  try
+  {
+    io::check_name(c.table, "patient", p.id, "the patient's folder in the output");
+  }
+  catch (const Error& e)
+  {
+    throw Error(where + ", column 'patient': " + (p.id.empty() ? "empty" : e.what()));
+  }
+  if (ids.count(p.id))
+    throw Error(format("%s: the patient '%s' is there twice", where.c_str(), p.id.c_str()));
+  if (!fs::is_directory(p.folder))
+    throw Error(format("%s (patient %s), column 'folder': %s is not a folder", where.c_str(),
+                       p.id.c_str(), p.folder.string().c_str()));
+  for (auto& [label, mean] : means)
+  {
+    if (!sds.count(label))
+      throw Error(format("%s (patient %s): prior.%s.mean without its prior.%s.sd",
+                         where.c_str(), p.id.c_str(), label.c_str(), label.c_str()));
+    p.priors[label] = {mean, sds[label]};
+  }
+  for (auto& [label, sd] : sds)
+    if (!means.count(label))
+      throw Error(format("%s (patient %s): prior.%s.sd without its prior.%s.mean",
+                         where.c_str(), p.id.c_str(), label.c_str(), label.c_str()));
+  return p;
+}
+
 /// The [cohort] table of a fit file and its patients' table (docs/manual.md,
 /// "Cohorts"): every column known, every cell readable, before any run.
 Cohort read_cohort(const toml::table& ct, const fs::path& file)
 {
   io::KeyErrors errors(file, ct);
-  io::only(ct, {"table", "covariates", "patients"}, file, "cohort.", "[cohort]", errors);
+  io::refuse_unknown_keys(ct, {"table", "covariates", "patients"}, file, "cohort.", "[cohort]",
+                          errors);
   errors.raise();
   Cohort c;
   c.table = io::file_path(file, "cohort.table", ct["table"].node(), "patients' table (CSV)");
@@ -245,95 +338,15 @@ Cohort read_cohort(const toml::table& ct, const fs::path& file)
   };
   if (!next())
     throw Error(table + ": empty: a header (patient,folder,...) and a row per patient");
-  const std::vector<std::string> header = cells(line);
-
+  const std::vector<std::string> header = split_csv_line(line);
   const std::vector<Column> roles = column_roles(header, c, file);
-
   std::set<std::string> ids;
   while (next())
   {
-    const auto row = cells(line);
-    Patient p;
-    p.row = c.patients.size() + 1;
-    const std::string where = format("%s line %zu (row %zu)", table.c_str(), number, p.row);
-    if (row.size() != header.size())
-      throw Error(format("%s: %zu cells for the header's %zu columns", where.c_str(), row.size(),
-                         header.size()));
-    auto real = [&](std::size_t i)
-    {
-      std::size_t used = 0;
-      double v = NAN;
-      try
-      {
-        v = std::stod(row[i], &used);
-      }
-      catch (const std::exception&)
-      {
-      }
-      if (used != row[i].size() || !std::isfinite(v))
-        throw Error(format("%s, column '%s': expected a number, got '%s'", where.c_str(),
-                           header[i].c_str(), row[i].c_str()));
-      return v;
-    };
-    std::map<std::string, double> means, sds;
-    for (std::size_t i = 0; i < row.size(); ++i)
-    {
-      const auto& [role, name] = roles[i];
-      if (row[i].empty() && role != Role::patient && role != Role::folder)
-        continue; // the fit file's (or the scene's) value
-      switch (role)
-      {
-      case Role::patient:
-        p.id = row[i];
-        break;
-      case Role::folder:
-        p.folder = c.table.parent_path() / row[i];
-        break;
-      case Role::key:
-        p.sets.push_back(name + "=" + row[i]);
-        break;
-      case Role::prior_mean:
-        means[name] = real(i);
-        break;
-      case Role::prior_sd:
-        sds[name] = real(i);
-        if (!(sds[name] > 0))
-          throw Error(format("%s, column '%s': must be above 0, got %s", where.c_str(),
-                             header[i].c_str(), row[i].c_str()));
-        break;
-      case Role::truth:
-        p.truths[name] = real(i);
-        break;
-      case Role::covariate:
-        p.covariates.push_back({name, row[i]});
-        break;
-      }
-    }
-    try
-    {
-      io::check_name(c.table, "patient", p.id, "the patient's folder in the output");
-    }
-    catch (const Error& e)
-    {
-      throw Error(where + ", column 'patient': " + (p.id.empty() ? "empty" : e.what()));
-    }
-    if (!ids.insert(p.id).second)
-      throw Error(format("%s: the patient '%s' is there twice", where.c_str(), p.id.c_str()));
-    if (!fs::is_directory(p.folder))
-      throw Error(format("%s (patient %s), column 'folder': %s is not a folder", where.c_str(),
-                         p.id.c_str(), p.folder.string().c_str()));
-    for (auto& [label, mean] : means)
-    {
-      if (!sds.count(label))
-        throw Error(format("%s (patient %s): prior.%s.mean without its prior.%s.sd",
-                           where.c_str(), p.id.c_str(), label.c_str(), label.c_str()));
-      p.priors[label] = {mean, sds[label]};
-    }
-    for (auto& [label, sd] : sds)
-      if (!means.count(label))
-        throw Error(format("%s (patient %s): prior.%s.sd without its prior.%s.mean",
-                           where.c_str(), p.id.c_str(), label.c_str(), label.c_str()));
-    c.patients.push_back(std::move(p));
+    const std::size_t row = c.patients.size() + 1;
+    const std::string where = format("%s line %zu (row %zu)", table.c_str(), number, row);
+    c.patients.push_back(read_patient(split_csv_line(line), header, roles, c, row, where, ids));
+    ids.insert(c.patients.back().id);
   }
   if (c.patients.empty())
     throw Error(table + ": no patient: a row per patient under the header");
@@ -345,8 +358,8 @@ Parameter read_parameter(const toml::table& pt, std::size_t i, const Fit& fit,
 {
   const fs::path& file = fit.file;
   const std::string where = "parameter[" + std::to_string(i + 1) + "].";
-  io::only(pt, {"key", "label", "start", "bounds", "log", "prior"}, file, where, "[[parameter]]",
-           errors);
+  io::refuse_unknown_keys(pt, {"key", "label", "start", "bounds", "log", "prior"}, file, where,
+                          "[[parameter]]", errors);
   Parameter p;
   if (!pt["key"])
     throw key_error(file, where + "key", "missing: the scene key (or keys) the parameter sets");
@@ -403,7 +416,7 @@ Parameter read_parameter(const toml::table& pt, std::size_t i, const Fit& fit,
     if (!t)
       throw key_error(file, where + "prior", "expected {mean = ..., sd = ...}, got "
                                                  + literal(*prior));
-    io::only(*t, {"mean", "sd"}, file, where + "prior.", "a prior", errors);
+    io::refuse_unknown_keys(*t, {"mean", "sd"}, file, where + "prior.", "a prior", errors);
     p.prior = true;
     p.prior_mean = required(*t, "mean", file, where + "prior.mean", "the measured value");
     p.prior_sd = required(*t, "sd", file, where + "prior.sd", "the measurement's SD");
@@ -430,11 +443,133 @@ Parameter read_parameter(const toml::table& pt, std::size_t i, const Fit& fit,
   return p;
 }
 
+/// An observation's key `sd` (above 0), NaN when absent.
+double observation_sd(const toml::table& ot, const fs::path& file, const std::string& where)
+{
+  auto sd = number(ot, "sd", file, where + "sd");
+  if (sd && !(*sd > 0))
+    throw key_error(file, where + "sd", format("must be above 0, got %g", *sd));
+  return sd ? *sd : NAN;
+}
+
+/// A biomarker observation (`where`: "observation[i]."): a summary.json
+/// reading, its measured value and SD.
+Observation read_biomarker(const toml::table& ot, const std::string& where, const fs::path& file,
+                           io::KeyErrors& errors)
+{
+  io::refuse_unknown_keys(ot, {"biomarker", "value", "sd", "label"}, file, where,
+                          "a biomarker observation", errors);
+  Observation o;
+  o.kind = Kind::biomarker;
+  o.quantity = ot["biomarker"].value_or(std::string());
+  if (const auto* e = biomarkers::find(o.quantity); !e || !e->reading)
+    throw key_error(file, where + "biomarker", "'" + o.quantity + "' is not a biomarker a "
+                                               "puff run gives; one of " + join(readings()));
+  o.value = {required(ot, "value", file, where + "value", "the measured value")};
+  const double sd = observation_sd(ot, file, where);
+  if (std::isnan(sd))
+    throw key_error(file, where + "sd", "missing: the measurement's SD (its weight)");
+  o.sd = {sd};
+  o.t = {NAN};
+  o.x = {NAN};
+  o.label = o.quantity;
+  return o;
+}
+
+/// The CSV file of a curve or profile at key `name`: relative to the fit
+/// file, or to a cohort's patient's folder.
+fs::path observation_file(const toml::table& ot, const std::string& name,
+                          const std::string& where, const Fit& fit)
+{
+  if (!fit.patient)
+    return io::file_path(fit.file, where + name, ot[name].node(), "CSV file");
+  const auto csv = ot[name].value_exact<std::string>();
+  if (!csv)
+    throw key_error(fit.file, where + name, "missing or not a string: CSV file");
+  const fs::path path = fit.patient->folder / *csv;
+  if (!fs::is_regular_file(path))
+    throw key_error(fit.file, where + name, "the patient's CSV file " + path.string()
+                                                + " not found");
+  return path;
+}
+
+/// A curve (frames.csv's column against time) or profile (the corneal
+/// surface at times and x) observation: its quantity, and its points
+/// from its CSV, each within the puff's `duration`, with its SD.
+Observation read_curve_or_profile(const toml::table& ot, const std::string& where,
+                                  const Fit& fit, std::optional<double> duration,
+                                  io::KeyErrors& errors)
+{
+  const fs::path& file = fit.file;
+  const bool curve = ot.contains("curve");
+  Observation o;
+  o.kind = curve ? Kind::curve : Kind::profile;
+  const std::string name = curve ? "curve" : "profile";
+  if (curve)
+    io::refuse_unknown_keys(ot, {"curve", "quantity", "sd", "label"}, file, where,
+                            "a curve observation", errors);
+  else
+    io::refuse_unknown_keys(ot, {"profile", "surface", "reference", "sd", "label"}, file, where,
+                            "a profile observation", errors);
+  o.file = observation_file(ot, name, where, fit);
+  const double sd = observation_sd(ot, file, where);
+  if (curve)
+  {
+    o.quantity = ot["quantity"].value_or(std::string("apex_displacement_mm"));
+    if (std::find(curve_quantities().begin(), curve_quantities().end(), o.quantity)
+        == curve_quantities().end())
+      throw key_error(file, where + "quantity", "'" + o.quantity + "': one of the frames.csv "
+                                                "columns " + join(curve_quantities()));
+    o.label = o.quantity;
+  }
+  else
+  {
+    o.quantity = ot["surface"].value_or(std::string("anterior"));
+    if (o.quantity != "anterior" && o.quantity != "posterior")
+      throw key_error(file, where + "surface", "\"anterior\" or \"posterior\", got \""
+                                                   + o.quantity + "\"");
+    const std::string reference = ot["reference"].value_or(std::string("rest"));
+    if (reference != "rest" && reference != "absolute")
+      throw key_error(file, where + "reference",
+                      "\"rest\" (y is the surface's axial displacement from its t = 0 "
+                      "profile) or \"absolute\" (the model's coordinates), got \""
+                          + reference + "\"");
+    o.relative = reference == "rest";
+    o.label = "profile_" + o.quantity;
+  }
+  const auto rows = read_points(o.file, curve ? "t_ms,value_mm" : "t_ms,x_mm,y_mm", file,
+                                where + name);
+  const bool file_sd = !std::isnan(rows[0].back());
+  if (file_sd && !std::isnan(sd))
+    throw key_error(file, where + "sd", "the CSV has an sd_mm column: give the SD there or "
+                                        "here, not both");
+  if (!file_sd && std::isnan(sd))
+    throw key_error(file, where + "sd", "missing: the points' SD (or an sd_mm column in "
+                                            + o.file.string() + ")");
+  for (std::size_t r = 0; r < rows.size(); ++r)
+  {
+    const auto& row = rows[r];
+    const double t = row[0];
+    if (duration && (t < 0 || t > *duration))
+      throw key_error(file, where + name, format("%s row %zu: t = %g ms is outside the puff "
+                                                 "the scene simulates, [0, %g] ms",
+                                                 o.file.string().c_str(), r + 1, t, *duration));
+    o.t.push_back(t);
+    o.x.push_back(curve ? NAN : row[1]);
+    o.value.push_back(curve ? row[1] : row[2]);
+    o.sd.push_back(file_sd ? row.back() : sd);
+    if (!(o.sd.back() > 0))
+      throw key_error(file, where + name, format("%s row %zu: sd_mm must be above 0, got %g",
+                                                 o.file.string().c_str(), r + 1, o.sd.back()));
+  }
+  return o;
+}
+
+/// The i-th [[observation]] table: a biomarker, curve or profile, and its
+/// label (each once).
 Observation read_observation(const toml::table& ot, std::size_t i, const Fit& fit,
                              std::optional<double> duration, io::KeyErrors& errors)
 {
-  // A cohort's patient: the files are in the patient's folder.
-  const Patient* patient = fit.patient ? &*fit.patient : nullptr;
   const fs::path& file = fit.file;
   const std::string where = "observation[" + std::to_string(i + 1) + "].";
   const int kinds = ot.contains("biomarker") + ot.contains("curve") + ot.contains("profile");
@@ -442,106 +577,9 @@ Observation read_observation(const toml::table& ot, std::size_t i, const Fit& fi
     throw key_error(file, where.substr(0, where.size() - 1),
                     "give exactly one of biomarker (a summary.json value), curve (a CSV "
                     "t_ms,value_mm[,sd_mm]) or profile (a CSV t_ms,x_mm,y_mm[,sd_mm])");
-  Observation o;
-  auto sd_key = [&]() -> double
-  {
-    auto sd = number(ot, "sd", file, where + "sd");
-    if (sd && !(*sd > 0))
-      throw key_error(file, where + "sd", format("must be above 0, got %g", *sd));
-    return sd ? *sd : NAN;
-  };
-  if (ot.contains("biomarker"))
-  {
-    io::only(ot, {"biomarker", "value", "sd", "label"}, file, where, "a biomarker observation",
-             errors);
-    o.kind = Kind::biomarker;
-    o.quantity = ot["biomarker"].value_or(std::string());
-    if (const auto* e = biomarkers::find(o.quantity); !e || !e->reading)
-      throw key_error(file, where + "biomarker", "'" + o.quantity + "' is not a biomarker a "
-                                                 "puff run gives; one of " + join(readings()));
-    o.value = {required(ot, "value", file, where + "value", "the measured value")};
-    const double sd = sd_key();
-    if (std::isnan(sd))
-      throw key_error(file, where + "sd", "missing: the measurement's SD (its weight)");
-    o.sd = {sd};
-    o.t = {NAN};
-    o.x = {NAN};
-    o.label = o.quantity;
-  }
-  else
-  {
-    const bool curve = ot.contains("curve");
-    o.kind = curve ? Kind::curve : Kind::profile;
-    const std::string name = curve ? "curve" : "profile";
-    if (curve)
-      io::only(ot, {"curve", "quantity", "sd", "label"}, file, where, "a curve observation",
-               errors);
-    else
-      io::only(ot, {"profile", "surface", "reference", "sd", "label"}, file, where,
-               "a profile observation", errors);
-    if (patient)
-    {
-      const auto cell = ot[name].value_exact<std::string>();
-      if (!cell)
-        throw key_error(file, where + name, "missing or not a string: CSV file");
-      o.file = patient->folder / *cell;
-      if (!fs::is_regular_file(o.file))
-        throw key_error(file, where + name, "the patient's CSV file " + o.file.string()
-                                                + " not found");
-    }
-    else
-      o.file = io::file_path(file, where + name, ot[name].node(), "CSV file");
-    const double sd = sd_key();
-    if (curve)
-    {
-      o.quantity = ot["quantity"].value_or(std::string("apex_displacement_mm"));
-      if (std::find(curve_quantities().begin(), curve_quantities().end(), o.quantity)
-          == curve_quantities().end())
-        throw key_error(file, where + "quantity", "'" + o.quantity + "': one of the frames.csv "
-                                                  "columns " + join(curve_quantities()));
-      o.label = o.quantity;
-    }
-    else
-    {
-      o.quantity = ot["surface"].value_or(std::string("anterior"));
-      if (o.quantity != "anterior" && o.quantity != "posterior")
-        throw key_error(file, where + "surface", "\"anterior\" or \"posterior\", got \""
-                                                     + o.quantity + "\"");
-      const std::string reference = ot["reference"].value_or(std::string("rest"));
-      if (reference != "rest" && reference != "absolute")
-        throw key_error(file, where + "reference",
-                        "\"rest\" (y is the surface's axial displacement from its t = 0 "
-                        "profile) or \"absolute\" (the model's coordinates), got \""
-                            + reference + "\"");
-      o.relative = reference == "rest";
-      o.label = "profile_" + o.quantity;
-    }
-    const auto rows = read_points(o.file, curve ? "t_ms,value_mm" : "t_ms,x_mm,y_mm", file,
-                                  where + name);
-    const bool file_sd = !std::isnan(rows[0].back());
-    if (file_sd && !std::isnan(sd))
-      throw key_error(file, where + "sd", "the CSV has an sd_mm column: give the SD there or "
-                                          "here, not both");
-    if (!file_sd && std::isnan(sd))
-      throw key_error(file, where + "sd", "missing: the points' SD (or an sd_mm column in "
-                                              + o.file.string() + ")");
-    for (std::size_t r = 0; r < rows.size(); ++r)
-    {
-      const auto& row = rows[r];
-      const double t = row[0];
-      if (duration && (t < 0 || t > *duration))
-        throw key_error(file, where + name, format("%s row %zu: t = %g ms is outside the puff "
-                                                   "the scene simulates, [0, %g] ms",
-                                                   o.file.string().c_str(), r + 1, t, *duration));
-      o.t.push_back(t);
-      o.x.push_back(curve ? NAN : row[1]);
-      o.value.push_back(curve ? row[1] : row[2]);
-      o.sd.push_back(file_sd ? row.back() : sd);
-      if (!(o.sd.back() > 0))
-        throw key_error(file, where + name, format("%s row %zu: sd_mm must be above 0, got %g",
-                                                   o.file.string().c_str(), r + 1, o.sd.back()));
-    }
-  }
+  Observation o = ot.contains("biomarker") ? read_biomarker(ot, where, file, errors)
+                                           : read_curve_or_profile(ot, where, fit, duration,
+                                                                   errors);
   if (auto label = ot["label"].value<std::string>())
     o.label = *label;
   io::check_name(file, where + "label", o.label, "a row of observations.csv");
@@ -602,102 +640,107 @@ void apply_patient(Fit& fit, const Patient& patient)
   }
 }
 
+/// The keys of the [fit] table `ft`; whether its scene and overrides read.
+bool read_fit_table(const toml::table& ft, Fit& fit, io::KeyErrors& errors)
+{
+  const fs::path& file = fit.file;
+  std::set<std::string> known = {"scene", "set", "ranks", "jobs", "mpiexec", "max_iterations",
+                                 "step", "differences", "tolerance"};
+  known.insert(jobs::launcher_keys().begin(), jobs::launcher_keys().end());
+  io::refuse_unknown_keys(ft, known, file, "fit.", "[fit]", errors);
+  bool scene_read = errors.attempt(
+      [&] { fit.scene = io::file_path(file, "fit.scene", ft["scene"].node(), "scene file"); });
+  scene_read = errors.attempt([&] {
+    if (auto* set = ft["set"].node())
+      fit.sets = io::string_list(*set, file, "fit.set", false);
+  }) && scene_read;
+
+  auto real = [&](const char* key, double def, double lo, double hi)
+  {
+    auto v = number(ft, key, file, std::string("fit.") + key);
+    if (v && (*v <= lo || *v >= hi))
+      throw key_error(file, std::string("fit.") + key,
+                      format("a number in (%g, %g), got %g", lo, hi, *v));
+    return v ? *v : def;
+  };
+  const jobs::RunKeys runs = jobs::read_run_keys(ft, "fit", file, errors);
+  fit.ranks = runs.ranks;
+  fit.jobs = runs.jobs;
+  fit.mpiexec = runs.mpiexec;
+  fit.launcher = jobs::read_launcher(ft, "fit", file, errors);
+  errors.attempt([&] {
+    fit.max_iterations = io::integer(ft, "fit", "max_iterations", 20, 1, 1000, file);
+  });
+  errors.attempt([&] { fit.step = real("step", 0.01, 0, 0.5); });
+  errors.attempt([&] { fit.tolerance = real("tolerance", 1e-4, 0, 1); });
+  errors.attempt([&] {
+    const std::string differences = ft["differences"].value_or(std::string("forward"));
+    if (differences != "forward" && differences != "central")
+      throw key_error(file, "fit.differences", "\"forward\" (one run per parameter) or "
+                                               "\"central\" (two), got \"" + differences + "\"");
+    fit.central = differences == "central";
+  });
+  return scene_read;
+}
+
+/// The base scene with the fit's overrides (and a patient's columns on
+/// top, which join the overrides) must load and simulate a puff on the
+/// eye: its duration, which bounds the readings' times.
+double puff_duration(Fit& fit, const Patient* patient)
+{
+  scene::Scene base = [&]
+  {
+    try
+    {
+      return scene::Scene::load(fit.scene, fit.sets);
+    }
+    catch (const Error& e)
+    {
+      throw key_error(fit.file, "fit.set", e.what());
+    }
+  }();
+  // A patient's columns (geometry, measured IOP...) on top.
+  if (patient && !patient->sets.empty())
+  {
+    fit.sets.insert(fit.sets.end(), patient->sets.begin(), patient->sets.end());
+    try
+    {
+      base = scene::Scene::load(fit.scene, fit.sets);
+    }
+    catch (const Error& e)
+    {
+      throw Error(std::string("its columns of scene keys: ") + e.what());
+    }
+  }
+  scene::Reader reader(base);
+  PuffSettings puff;
+  visit(reader, puff);
+  if (!puff.prescribed() && puff.load != PuffSettings::Load::fsi)
+    throw key_error(fit.file, "fit.scene", fit.scene.string() + " simulates no puff on the eye: "
+                                                                "there are no readings to compare");
+  return puff.duration;
+}
+
 /// The fit of a fit file's toml `t`, for `patient` (a cohort's row) if not null.
 Fit load_one(const toml::table& t, const fs::path& file, const Patient* patient)
 {
   io::KeyErrors errors(file, t);
-  io::only(t, {"fit", "parameter", "observation", "cohort"}, file, "", "a fit file", errors);
+  io::refuse_unknown_keys(t, {"fit", "parameter", "observation", "cohort"}, file, "", "a fit file",
+                          errors);
   const toml::table* ft = t["fit"].as_table();
   if (!ft)
   {
     errors.add(key_error(file, "fit", "missing: a [fit] table names the base scene").what());
     errors.raise();
   }
-  io::only(*ft, {"scene", "set", "ranks", "jobs", "mpiexec", "launcher", "slurm", "max_iterations",
-                 "step", "differences", "tolerance"},
-           file, "fit.", "[fit]", errors);
   Fit fit;
   fit.file = file;
   if (patient)
     fit.patient = *patient;
-  bool scene_read = errors.attempt(
-      [&] { fit.scene = io::file_path(file, "fit.scene", (*ft)["scene"].node(), "scene file"); });
-  scene_read = errors.attempt([&] {
-    if (auto* set = (*ft)["set"].node())
-      fit.sets = io::string_list(*set, file, "fit.set", false);
-  }) && scene_read;
-
-  auto integer = [&](const char* key, long def, long lo, long hi)
-  { return io::integer(*ft, "fit", key, def, lo, hi, file); };
-  auto real = [&](const char* key, double def, double lo, double hi)
-  {
-    auto v = number(*ft, key, file, std::string("fit.") + key);
-    if (v && (*v <= lo || *v >= hi))
-      throw key_error(file, std::string("fit.") + key,
-                      format("a number in (%g, %g), got %g", lo, hi, *v));
-    return v ? *v : def;
-  };
-  fit.ranks = 1;
-  errors.attempt([&] { fit.ranks = integer("ranks", 1, 1, 4096); });
-  errors.attempt([&] {
-    const long cores = std::max(1u, std::thread::hardware_concurrency());
-    fit.jobs = integer("jobs", std::max(1L, cores / fit.ranks), 1, 4096);
-  });
-  errors.attempt([&] {
-    fit.mpiexec = (*ft)["mpiexec"].value_or<std::string>("mpiexec --bind-to none");
-    if (fit.mpiexec.find_first_not_of(" \t") == std::string::npos)
-      throw key_error(file, "fit.mpiexec",
-                      "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
-  });
-  fit.launcher = jobs::read_launcher(*ft, "fit", file, errors);
-  errors.attempt([&] { fit.max_iterations = integer("max_iterations", 20, 1, 1000); });
-  errors.attempt([&] { fit.step = real("step", 0.01, 0, 0.5); });
-  errors.attempt([&] { fit.tolerance = real("tolerance", 1e-4, 0, 1); });
-  errors.attempt([&] {
-    const std::string differences = (*ft)["differences"].value_or(std::string("forward"));
-    if (differences != "forward" && differences != "central")
-      throw key_error(file, "fit.differences", "\"forward\" (one run per parameter) or "
-                                               "\"central\" (two), got \"" + differences + "\"");
-    fit.central = differences == "central";
-  });
-
-  // The base scene with the fit's overrides must load, and simulate a puff
-  // on the eye (its duration bounds the readings' times).
+  bool scene_read = read_fit_table(*ft, fit, errors);
   std::optional<double> duration;
   if (scene_read)
-    scene_read = errors.attempt([&] {
-      scene::Scene base = [&]
-      {
-        try
-        {
-          return scene::Scene::load(fit.scene, fit.sets);
-        }
-        catch (const Error& e)
-        {
-          throw key_error(file, "fit.set", e.what());
-        }
-      }();
-      // A patient's columns (geometry, measured IOP...) on top.
-      if (patient && !patient->sets.empty())
-      {
-        fit.sets.insert(fit.sets.end(), patient->sets.begin(), patient->sets.end());
-        try
-        {
-          base = scene::Scene::load(fit.scene, fit.sets);
-        }
-        catch (const Error& e)
-        {
-          throw Error(std::string("its columns of scene keys: ") + e.what());
-        }
-      }
-      scene::Reader reader(base);
-      PuffSettings puff;
-      visit(reader, puff);
-      if (!puff.prescribed() && puff.load != PuffSettings::Load::fsi)
-        throw key_error(file, "fit.scene", fit.scene.string() + " simulates no puff on the eye: "
-                                           "there are no readings to compare");
-      duration = puff.duration;
-    });
+    scene_read = errors.attempt([&] { duration = puff_duration(fit, patient); });
 
   errors.attempt([&] {
     const toml::array* ps = t["parameter"].as_array();

@@ -84,8 +84,9 @@ std::vector<std::string> string_list(const toml::node& v, const fs::path& file,
   return out;
 }
 
-void only(const toml::table& t, const std::set<std::string>& known, const fs::path& file,
-          const std::string& where, const std::string& table, KeyErrors& errors)
+void refuse_unknown_keys(const toml::table& t, const std::set<std::string>& known,
+                         const fs::path& file, const std::string& where,
+                         const std::string& table, KeyErrors& errors)
 {
   for (auto&& [k, v] : t)
     if (!known.count(std::string(k.str())))

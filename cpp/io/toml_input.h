@@ -81,9 +81,9 @@ std::vector<std::string> string_list(const toml::node& v, const std::filesystem:
 /// Refuse keys of `t` not in `known`: "unknown key; `table` takes ...",
 /// each into `errors`. `where` prefixes the key in the message (e.g.
 /// "factor[2].").
-void only(const toml::table& t, const std::set<std::string>& known,
-          const std::filesystem::path& file, const std::string& where, const std::string& table,
-          KeyErrors& errors);
+void refuse_unknown_keys(const toml::table& t, const std::set<std::string>& known,
+                         const std::filesystem::path& file, const std::string& where,
+                         const std::string& table, KeyErrors& errors);
 
 /// A file named by a string at `key`, relative to `file`'s folder; it must
 /// exist. `what` says what it is for the messages.

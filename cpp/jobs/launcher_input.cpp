@@ -1,11 +1,33 @@
 #include "jobs/launcher_input.h"
 
+#include <algorithm>
 #include <stdexcept>
+#include <thread>
 
 #include "jobs/slurm.h"
 
 namespace nct::jobs
 {
+
+RunKeys read_run_keys(const toml::table& t, const std::string& section,
+                      const std::filesystem::path& file, io::KeyErrors& errors)
+{
+  RunKeys keys;
+  auto integer = [&](const char* key, long def, long lo, long hi)
+  { return io::integer(t, section, key, def, lo, hi, file); };
+  errors.attempt([&] { keys.ranks = integer("ranks", 1, 1, 4096); });
+  errors.attempt([&] {
+    const long cores = std::max(1u, std::thread::hardware_concurrency());
+    keys.jobs = integer("jobs", std::max(1L, cores / keys.ranks), 1, 4096);
+  });
+  errors.attempt([&] {
+    keys.mpiexec = t["mpiexec"].value_or<std::string>("mpiexec --bind-to none");
+    if (keys.mpiexec.find_first_not_of(" \t") == std::string::npos)
+      throw io::key_error(file, section + ".mpiexec",
+                          "empty: the MPI launcher, e.g. \"mpiexec --bind-to none\"");
+  });
+  return keys;
+}
 
 Launcher read_launcher(const toml::table& t, const std::string& section,
                        const std::filesystem::path& file, io::KeyErrors& errors)
@@ -22,8 +44,8 @@ Launcher read_launcher(const toml::table& t, const std::string& section,
   const toml::table* st = t["slurm"].as_table();
   if (!st)
     return l;
-  io::only(*st, {"partition", "account", "time_limit", "cores_per_rank", "options"}, file,
-           slurm + ".", "[" + slurm + "]", errors);
+  io::refuse_unknown_keys(*st, {"partition", "account", "time_limit", "cores_per_rank", "options"},
+                          file, slurm + ".", "[" + slurm + "]", errors);
   auto text = [&](const char* name, std::string& into)
   {
     errors.attempt([&] {

@@ -1,4 +1,5 @@
-// The launcher keys of a study or fit file: `launcher` and its [slurm] table.
+// The keys of a study or fit file that say how its runs go: ranks, jobs,
+// mpiexec, and the launcher (`launcher` and its [slurm] table).
 #pragma once
 
 #include <filesystem>
@@ -11,6 +12,20 @@
 
 namespace nct::jobs
 {
+
+/// How a study's cases or a fit's forward runs go on this machine.
+struct RunKeys
+{
+  int ranks = 1;       ///< MPI ranks per run
+  int jobs = 1;        ///< runs at once
+  std::string mpiexec; ///< the MPI launcher of runs on several ranks
+};
+
+/// The keys ranks (1 to 4096, default 1), jobs (default: the cores over
+/// the ranks) and mpiexec (default "mpiexec --bind-to none") of the table
+/// `t` named `section` in `file`. Problems go into `errors`, naming the key.
+RunKeys read_run_keys(const toml::table& t, const std::string& section,
+                      const std::filesystem::path& file, io::KeyErrors& errors);
 
 /// The launcher of the table `t` named `section` in `file` ("study", "fit"):
 ///

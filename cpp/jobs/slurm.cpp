@@ -186,6 +186,132 @@ int exit_code(const Job& job)
   return (in >> code) ? code : -1;
 }
 
+/// A job's task has ended (Slurm's `state`, empty when Slurm no longer
+/// knows it): `done` with its exit code. One that Slurm ended (cancelled,
+/// out of time, its node lost...) or that left no exit code counts as
+/// failed, with Slurm's state appended to its log.
+void finish(const Job& job, const std::string& task, const std::string& state,
+            const std::function<void(int)>& done)
+{
+  int code = exit_code(job);
+  if (code < 0 || (!state.empty() && state != "COMPLETED"))
+  {
+    // Slurm ended it (cancelled, out of time, its node lost...), or no
+    // longer knows it (a task cancelled before it started leaves no record).
+    std::ofstream log(job.log, std::ios::app);
+    log << "slurm: task " << task << " ended "
+        << (state.empty() ? std::string("and Slurm no longer knows it") : state);
+    if (code < 0)
+      log << " without an exit code";
+    log << "\n";
+    if (code < 0)
+      code = state == "CANCELLED" || state.empty() ? 130 : 1;
+  }
+  done(code);
+}
+
+/// The jobs' tasks: those the folder's record shows still queued or
+/// running are followed; those that ended well while no driver followed
+/// them are done; the rest are submitted, one array per number of ranks
+/// (each prepared first). Returns job -> task id of those to follow.
+std::map<std::size_t, std::string>
+follow_or_submit(const Launcher& l, const std::vector<Job>& jobs, int at_once,
+                 const std::function<void(std::size_t, int)>& done)
+{
+  Record record(l.folder);
+  std::set<std::string> arrays;
+  for (const auto& [log, task] : record.tasks)
+    arrays.insert(array_of(task));
+  auto now = states(arrays);
+  std::map<std::size_t, std::string> tracked; // job -> task id
+  std::map<int, std::vector<std::size_t>> to_submit;
+  for (std::size_t i = 0; i < jobs.size(); ++i)
+  {
+    auto it = record.tasks.find(key(jobs[i]));
+    if (it != record.tasks.end() && now.count(it->second) && alive(now[it->second]))
+    {
+      tracked[i] = it->second;
+      std::cout << "slurm: " << jobs[i].log.parent_path().filename().string()
+                << " is still in Slurm's queue as task " << it->second << " ("
+                << now[it->second] << "): followed, not submitted again" << std::endl;
+      continue;
+    }
+    if (it != record.tasks.end() && exit_code(jobs[i]) == 0)
+    {
+      done(i, 0); // it ended well while no driver was following it
+      continue;
+    }
+    to_submit[jobs[i].ranks].push_back(i);
+  }
+  for (const auto& [ranks, indices] : to_submit)
+  {
+    for (std::size_t i : indices)
+    {
+      if (jobs[i].prepare)
+        jobs[i].prepare();
+      fs::remove(jobs[i].log.string() + ".exit");
+    }
+    const std::string id = submit(l, jobs, indices, at_once);
+    std::cout << "slurm: submitted " << indices.size() << " job(s) as array " << id << " ("
+              << ranks << " rank(s) each, at most " << at_once << " at once)" << std::endl;
+    for (std::size_t k = 0; k < indices.size(); ++k)
+    {
+      tracked[indices[k]] = id + "_" + std::to_string(k);
+      record.tasks[key(jobs[indices[k]])] = tracked[indices[k]];
+    }
+    record.save();
+  }
+  return tracked;
+}
+
+/// Interrupted: what ended before the signal counts; the rest of the
+/// `tracked` tasks are cancelled (scancel), waited for, and done as Slurm
+/// ended them.
+void cancel(const std::vector<Job>& jobs, std::map<std::size_t, std::string>& tracked,
+            const std::function<void(std::size_t, int)>& done)
+{
+  std::set<std::string> unfinished;
+  for (const auto& [i, task] : tracked)
+    unfinished.insert(array_of(task));
+  auto now = states(unfinished);
+  for (auto it = tracked.begin(); it != tracked.end();)
+    if (now.count(it->second) && alive(now[it->second]))
+      ++it;
+    else
+    {
+      finish(jobs[it->first], it->second, now.count(it->second) ? now[it->second] : "",
+             [&, i = it->first](int code) { done(i, code); });
+      it = tracked.erase(it);
+    }
+  unfinished.clear();
+  for (const auto& [i, task] : tracked)
+    unfinished.insert(array_of(task));
+  std::vector<std::string> argv = {"scancel"};
+  for (const auto& [i, task] : tracked)
+    argv.push_back(task);
+  if (!tracked.empty())
+    capture(argv);
+  std::string ids;
+  for (const auto& id : unfinished)
+    ids += (ids.empty() ? "" : ", ") + id;
+  std::cerr << "slurm: interrupted: cancelled " << tracked.size() << " unfinished job(s)"
+            << (ids.empty() ? "" : " of array(s) " + ids) << " (scancel)" << std::endl;
+  // A task may have ended just before: wait for Slurm to end them all.
+  for (int wait = 0; wait < 300; ++wait)
+  {
+    now = states(unfinished);
+    bool any = false;
+    for (const auto& [i, task] : tracked)
+      any = any || (now.count(task) && alive(now[task]));
+    if (!any)
+      break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  for (const auto& [i, task] : tracked)
+    finish(jobs[i], task, now.count(task) ? now[task] : "CANCELLED",
+           [&, i = i](int code) { done(i, code); });
+}
+
 } // namespace
 
 void check(const Launcher& l, int ranks, const std::string& prefix)
@@ -247,121 +373,19 @@ bool run(const Launcher& l, const std::vector<Job>& jobs, int at_once,
 {
   if (interrupted())
     return false; // as the local launcher: nothing new starts after a signal
-  Record record(l.folder);
-  // Jobs the record shows still queued or running are followed; the rest
-  // are submitted, one array per number of ranks.
-  std::set<std::string> arrays;
-  for (const auto& [log, task] : record.tasks)
-    arrays.insert(array_of(task));
-  auto now = states(arrays);
-  std::map<std::size_t, std::string> tracked; // job -> task id
-  std::map<int, std::vector<std::size_t>> to_submit;
-  for (std::size_t i = 0; i < jobs.size(); ++i)
-  {
-    auto it = record.tasks.find(key(jobs[i]));
-    if (it != record.tasks.end() && now.count(it->second) && alive(now[it->second]))
-    {
-      tracked[i] = it->second;
-      std::cout << "slurm: " << jobs[i].log.parent_path().filename().string()
-                << " is still in Slurm's queue as task " << it->second << " ("
-                << now[it->second] << "): followed, not submitted again" << std::endl;
-      continue;
-    }
-    if (it != record.tasks.end() && exit_code(jobs[i]) == 0)
-    {
-      done(i, 0); // it ended well while no driver was following it
-      continue;
-    }
-    to_submit[jobs[i].ranks].push_back(i);
-  }
-  for (const auto& [ranks, indices] : to_submit)
-  {
-    for (std::size_t i : indices)
-    {
-      if (jobs[i].prepare)
-        jobs[i].prepare();
-      fs::remove(jobs[i].log.string() + ".exit");
-    }
-    const std::string id = submit(l, jobs, indices, at_once);
-    std::cout << "slurm: submitted " << indices.size() << " job(s) as array " << id << " ("
-              << ranks << " rank(s) each, at most " << at_once << " at once)" << std::endl;
-    for (std::size_t k = 0; k < indices.size(); ++k)
-    {
-      tracked[indices[k]] = id + "_" + std::to_string(k);
-      record.tasks[key(jobs[indices[k]])] = tracked[indices[k]];
-    }
-    record.save();
-  }
-
+  std::map<std::size_t, std::string> tracked = follow_or_submit(l, jobs, at_once, done);
   // Follow them until each has ended.
-  auto finish = [&](std::size_t i, const std::string& task, const std::string& state)
-  {
-    int code = exit_code(jobs[i]);
-    if (code < 0 || (!state.empty() && state != "COMPLETED"))
-    {
-      // Slurm ended it (cancelled, out of time, its node lost...), or no
-      // longer knows it (a task cancelled before it started leaves no record).
-      std::ofstream log(jobs[i].log, std::ios::app);
-      log << "slurm: task " << task << " ended "
-          << (state.empty() ? std::string("and Slurm no longer knows it") : state);
-      if (code < 0)
-        log << " without an exit code";
-      log << "\n";
-      if (code < 0)
-        code = state == "CANCELLED" || state.empty() ? 130 : 1;
-    }
-    done(i, code);
-  };
   while (!tracked.empty())
   {
     if (interrupted())
     {
-      // What ended before the signal counts; the rest is cancelled.
-      std::set<std::string> unfinished;
-      for (const auto& [i, task] : tracked)
-        unfinished.insert(array_of(task));
-      now = states(unfinished);
-      for (auto it = tracked.begin(); it != tracked.end();)
-        if (now.count(it->second) && alive(now[it->second]))
-          ++it;
-        else
-        {
-          finish(it->first, it->second, now.count(it->second) ? now[it->second] : "");
-          it = tracked.erase(it);
-        }
-      unfinished.clear();
-      for (const auto& [i, task] : tracked)
-        unfinished.insert(array_of(task));
-      std::vector<std::string> argv = {"scancel"};
-      for (const auto& [i, task] : tracked)
-        argv.push_back(task);
-      if (!tracked.empty())
-        capture(argv);
-      std::string ids;
-      for (const auto& id : unfinished)
-        ids += (ids.empty() ? "" : ", ") + id;
-      std::cerr << "slurm: interrupted: cancelled " << tracked.size()
-                << " unfinished job(s)" << (ids.empty() ? "" : " of array(s) " + ids)
-                << " (scancel)" << std::endl;
-      // A task may have ended just before: wait for Slurm to end them all.
-      for (int wait = 0; wait < 300; ++wait)
-      {
-        now = states(unfinished);
-        bool any = false;
-        for (const auto& [i, task] : tracked)
-          any = any || (now.count(task) && alive(now[task]));
-        if (!any)
-          break;
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-      }
-      for (const auto& [i, task] : tracked)
-        finish(i, task, now.count(task) ? now[task] : "CANCELLED");
+      cancel(jobs, tracked, done);
       return false;
     }
-    arrays.clear();
+    std::set<std::string> arrays;
     for (const auto& [i, task] : tracked)
       arrays.insert(array_of(task));
-    now = states(arrays);
+    const auto now = states(arrays);
     for (auto it = tracked.begin(); it != tracked.end();)
     {
       const auto state = now.find(it->second);
@@ -370,7 +394,8 @@ bool run(const Launcher& l, const std::vector<Job>& jobs, int at_once,
         ++it;
         continue;
       }
-      finish(it->first, it->second, state == now.end() ? "" : state->second);
+      finish(jobs[it->first], it->second, state == now.end() ? "" : state->second,
+             [&, i = it->first](int code) { done(i, code); });
       it = tracked.erase(it);
     }
     if (!tracked.empty())

@@ -9,8 +9,11 @@
 
 #include <boost/math/distributions/fisher_f.hpp>
 
+#include "io/format.h"
+
 namespace nct::study
 {
+using io::nan;
 
 Anova factorial_anova(const std::vector<std::vector<int>>& coded,
                       const std::vector<double>& y, const std::vector<std::string>& labels)
@@ -71,7 +74,6 @@ Anova factorial_anova(const std::vector<std::vector<int>>& coded,
     a.error_sum_sq -= t.sum_sq;
   // Round-off of an exact fit; nothing at all without error dof.
   a.error_sum_sq = a.error_df > 0 ? std::max(a.error_sum_sq, 0.0) : 0.0;
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   for (Term& t : a.terms)
   {
     if (a.error_df <= 0)
@@ -118,7 +120,6 @@ std::vector<std::vector<double>> pearson(const std::vector<std::vector<double>>&
     if (norm[i] <= 1e-13 * largest * std::sqrt(double(c.size())))
       norm[i] = 0;
   }
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t i = 0; i < m; ++i)
     for (std::size_t j = 0; j < m; ++j)
       r[i][j] = norm[i] == 0 || norm[j] == 0
@@ -152,7 +153,6 @@ std::vector<Comparison> compare_to_baseline(const std::vector<double>& y)
 {
   if (y.empty())
     throw std::invalid_argument("compare_to_baseline: no baseline");
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   const double base = y[0];
   std::vector<Comparison> out;
   for (double v : y)

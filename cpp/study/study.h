@@ -62,6 +62,15 @@ struct Study
   /// Read and validate a study file (and every case's scene keys). Throws
   /// scene::Error naming the file and the key before anything runs.
   static Study load(const std::filesystem::path& file);
+
+  /// Case c's folder: case-001... (as many digits as the cases need, 3 at least).
+  std::string case_name(std::size_t c) const;
+
+  /// A case for messages: "C10=0.25, k1=0.005" (an ablation: its variant's name).
+  std::string describe(const Case& c) const;
+
+  /// Factor i's value in case c (the base scene's where the case leaves it).
+  double factor_value(const Case& c, std::size_t i) const;
 };
 
 /// Command-line settings of a study.
