@@ -25,8 +25,8 @@ from ufl import (Constant, Coefficient, FacetNormal, FiniteElement, Measure, Mix
 import navier_stokes
 import section
 
-# Facet tag of the outlet, shared with cpp/air/problem.cpp.
-OUTLET = 1
+# Facet tag of the outlet (tags.py).
+from tags import OUTLET
 
 cell = section.cell(dimension)  # noqa: F821 (wrapper)
 velocity_element = VectorElement("Lagrange", cell, degree)  # noqa: F821 (wrapper)

@@ -52,8 +52,8 @@ from ufl import (Constant, Coefficient, FacetNormal, FiniteElement, Identity, Me
 import navier_stokes
 import section
 
-# Facet tags, shared with cpp/air/problem.cpp.
-OUTLET, INTERFACE = 1, 2
+# Facet tags (tags.py).
+from tags import OUTLET, INTERFACE
 
 cell = section.cell(dimension)  # noqa: F821 (wrapper)
 velocity_element = VectorElement("Lagrange", cell, degree)  # noqa: F821 (wrapper)

@@ -62,8 +62,8 @@ from ufl import (Coefficient, Constant, FacetNormal, Measure, SpatialCoordinate,
 import kinematics
 import section
 
-# Facet tags of forms/solid.py.
-CAVITY_1_WALL, CAVITY_2_WALL, SUPPORT = 1, 3, 4
+# The solid's facet tags (tags.py).
+from tags import CAVITY_1_WALL, CAVITY_2_WALL, SUPPORT
 
 cell = section.cell(dimension)  # noqa: F821 (set by the wrapper)
 gdim = 3 if dimension == "3d" else 2  # noqa: F821

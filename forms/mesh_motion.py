@@ -36,8 +36,8 @@ from ufl import (Coefficient, Constant, JacobianDeterminant, Measure, TestFuncti
 
 import section
 
-# Cell tag of the moving region, shared with cpp/mesh_motion.
-MOVING = 1
+# Cell tag of the moving region (tags.py).
+from tags import MOVING
 
 cell = section.cell(dimension)  # noqa: F821 (set by the wrapper)
 element = VectorElement("Lagrange", cell, 1)

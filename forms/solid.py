@@ -62,9 +62,9 @@ import section
 import support
 import volumetric
 
-# Integration tags, shared with cpp/solid/problem.cpp.
-HGO, NEO_HOOKEAN, SAINT_VENANT_KIRCHHOFF, COMPRESSIBLE_NEO_HOOKEAN = 1, 2, 3, 4  # cell tags: law
-CAVITY_1_WALL, PRESS, CAVITY_2_WALL, SUPPORT = 1, 2, 3, 4  # facet tags: load
+# Integration tags (tags.py): cells by law, facets by load.
+from tags import HGO, NEO_HOOKEAN, SAINT_VENANT_KIRCHHOFF, COMPRESSIBLE_NEO_HOOKEAN
+from tags import CAVITY_1_WALL, PRESS, CAVITY_2_WALL, SUPPORT
 
 cell = section.cell(dimension)  # noqa: F821 (set by the wrapper)
 # The azimuths the fibre energy is averaged over (axisymmetric, hgo.py).

@@ -11,6 +11,7 @@
 #include <dolfinx/fem/utils.h>
 #include <dolfinx/la/petsc.h>
 
+#include "form_tags.h"
 #include "air_ale_p1_full.h"
 #include "air_ale_p1_full_axisymmetric.h"
 #include "air_ale_p1_full_plane.h"
@@ -25,7 +26,7 @@ namespace
 using namespace dolfinx;
 
 /// Facet tags of the outlet and the interface in forms/air.py and forms/air_ale.py.
-constexpr std::int32_t outlet_tag = 1, interface_tag = 2;
+constexpr std::int32_t outlet_tag = forms::tags::outlet, interface_tag = forms::tags::interface;
 
 /// The compiled kernels of forms/air.py (fixed mesh) and forms/air_ale.py
 /// (moving) for one dimension.

@@ -10,6 +10,7 @@
 #include <dolfinx/la/petsc.h>
 #include <petscksp.h>
 
+#include "form_tags.h"
 #include "mesh_motion_p1_full.h"
 #include "mesh_motion_p1_full_plane.h"
 #include "solver/monolithic.h"
@@ -20,8 +21,8 @@ namespace
 {
 using namespace dolfinx;
 
-/// Cell tag of the moving region in forms/mesh_motion.py.
-constexpr std::int32_t moving_tag = 1;
+/// Cell tag of the moving region in forms/mesh_motion.py (forms/tags.py).
+constexpr std::int32_t moving_tag = forms::tags::moving;
 
 /// Per point of `x` (3 coordinates each): is it within `distance` of one
 /// of `targets`? Buckets of the distance's size keep it linear.

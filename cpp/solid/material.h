@@ -12,19 +12,20 @@
 #include <dolfinx/fem/Function.h>
 #include <dolfinx/mesh/MeshTags.h>
 
+#include "form_tags.h"
 #include "section/section.h"
 
 namespace nct::solid
 {
 
-/// Material laws; the values are the cell tags of forms/solid.py.
+/// Material laws; the values are the cell tags of forms/solid.py (forms/tags.py).
 enum class Law : std::int32_t
 {
   fluid = 0, ///< a file mesh's fluid part: the air block's, never in the solid's forms
-  hgo = 1,
-  neo_hookean = 2,
-  saint_venant_kirchhoff = 3,
-  compressible_neo_hookean = 4
+  hgo = forms::tags::hgo,
+  neo_hookean = forms::tags::neo_hookean,
+  saint_venant_kirchhoff = forms::tags::saint_venant_kirchhoff,
+  compressible_neo_hookean = forms::tags::compressible_neo_hookean
 };
 
 /// The most Prony terms a part's viscoelasticity may have (forms/viscoelasticity.py).

@@ -14,6 +14,7 @@
 #include <dolfinx/geometry/utils.h>
 #include <dolfinx/mesh/utils.h>
 
+#include "form_tags.h"
 #include "solid_p1_full.h"
 #include "solid_p1_full_axisymmetric.h"
 #include "solid_p1_full_plane.h"
@@ -74,10 +75,11 @@ std::string group_name(const meshio::Groups& groups, std::int32_t tag)
   return std::to_string(tag);
 }
 
-/// Facet tags of forms/solid.py.
-constexpr std::array<std::int32_t, 2> cavity_wall_tags = {1, 3};
-constexpr std::int32_t press_tag = 2;
-constexpr std::int32_t support_tag = 4;
+/// Facet tags of forms/solid.py (forms/tags.py).
+constexpr std::array<std::int32_t, 2> cavity_wall_tags
+    = {forms::tags::cavity_1_wall, forms::tags::cavity_2_wall};
+constexpr std::int32_t press_tag = forms::tags::press;
+constexpr std::int32_t support_tag = forms::tags::support;
 
 /// The rigid-body modes of a displacement space, orthonormalised: three
 /// translations and three rotations in 3D, two and one in the plane, the
