@@ -189,8 +189,7 @@ FlowOutput::FlowOutput(const AirBlockSettings& settings, io::RunFolder& folder,
   _forces = !groups.empty();
   if (_forces)
     _wall_dofs = air.wall_dofs(groups);
-  // An axisymmetric section's forms are per radian: the whole revolution.
-  _revolution = settings.dimension == section::Dimension::axisymmetric ? 2 * M_PI : 1.0;
+  _axisymmetric = settings.dimension == section::Dimension::axisymmetric;
 }
 
 void FlowOutput::measure()
@@ -198,8 +197,10 @@ void FlowOutput::measure()
   if (_forces)
   {
     _force = _air.force_on(_wall_dofs);
-    for (auto& f : _force)
-      f *= _revolution;
+    if (_axisymmetric)
+      // The forms are per radian and the radial components of a body of
+      // revolution cancel: its resultant is 2 pi times the axial one.
+      _force = {0.0, 2 * M_PI * _force[1], 0.0};
   }
 }
 

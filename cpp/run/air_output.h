@@ -152,7 +152,7 @@ private:
   io::RunFolder& _folder;
   air::Problem& _air;
   std::vector<std::array<std::int32_t, 2>> _wall_dofs; ///< of output.force_on
-  double _revolution = 1; ///< 2 pi on an axisymmetric section: whole-body forces
+  bool _axisymmetric = false; ///< forces of the body of revolution: axial only
   bool _forces = false;
   AirFields _fields;
   std::string _forces_csv;
