@@ -355,7 +355,7 @@ void sweep(QuarterMesh& mesh, const Body& body)
 }
 
 /// Puts the node (r, y) at azimuth (c, s) = (cos phi, sin phi).
-Vec3 place(Meridian p, double c, double s) { return {p.r * c, p.y, p.r * s}; }
+Vec3 revolve(Meridian p, double c, double s) { return {p.r * c, p.y, p.r * s}; }
 
 /// The shell's chart: rings at the part bounds, the junction and, with the
 /// internal structures, the zonule ring, its arc transfinite. Size: the
@@ -407,7 +407,7 @@ void add_shell(QuarterMesh& mesh, const Shape& shape, const ChartSpec& spec, con
     const Meridian p = shape.posterior.at(shape.posterior_s(shell.s[v]));
     for (std::size_t k = 0; k <= layers; ++k) {
       const double t = double(k) / double(layers);
-      mesh.x[k * nc + v] = place(between(a, p, t), shell.cos_phi[v], shell.sin_phi[v]);
+      mesh.x[k * nc + v] = revolve(between(a, p, t), shell.cos_phi[v], shell.sin_phi[v]);
     }
   }
   mesh.owner.assign(mesh.x.size(), part_count + 1);
@@ -464,7 +464,7 @@ void add_diaphragm(QuarterMesh& mesh, const Diaphragm& dia, const Chart& chart, 
     for (std::size_t k = 0; k <= layers; ++k) {
       const double t = double(k) / double(layers);
       mesh.x[base + k * nf + free_index[v]]
-          = place(between(a, p, t), chart.cos_phi[v], chart.sin_phi[v]);
+          = revolve(between(a, p, t), chart.cos_phi[v], chart.sin_phi[v]);
     }
   }
   sweep(mesh, Body{chart, layers,

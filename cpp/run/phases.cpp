@@ -226,7 +226,7 @@ public:
                             "(zero_pressure.max_iterations); the last residual is "
                             "%.3e mm (max), %.3e mm (rms) against a tolerance of %.3e mm",
                             zp.max_iterations, last.max, last.rms, zp.tolerance));
-    _solid.probes = zero_pressure::carry(mesh, _solid.x_imaged, _solid.mesh.probes);
+    _solid.probes = zero_pressure::points_on_current(mesh, _solid.x_imaged, _solid.mesh.probes);
     // The last pressurised state is the inflated stress-free geometry: the
     // inflate phase may start from it (with the kept factorisation).
     if (zs.reuse)

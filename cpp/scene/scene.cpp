@@ -131,7 +131,7 @@ std::string source_text(const toml::node& n)
 
 /// Where a value came from: "file:line" or the --set option, and its line
 /// (-1: a --set option, 0: none).
-std::pair<std::string, int> place(const toml::node& n, const std::string& file)
+std::pair<std::string, int> source_of(const toml::node& n, const std::string& file)
 {
   const auto& src = n.source();
   if (src.path && src.path->rfind("--set", 0) == 0)
@@ -142,11 +142,11 @@ std::pair<std::string, int> place(const toml::node& n, const std::string& file)
   return {file, 0};
 }
 
-/// Add a problem at a node's place.
+/// Add a problem at a node's source.
 void add_at(Errors& errors, const toml::node& n, const std::string& file,
             const std::string& message)
 {
-  const auto [where, line] = place(n, file);
+  const auto [where, line] = source_of(n, file);
   errors.add(where, line, message);
 }
 
@@ -459,19 +459,19 @@ bool applies(const Key& key, const toml::table& user)
 /// if none did (or the key itself is an option's).
 std::string switched_off_by(const Key& key, const toml::node& value, const toml::table& user)
 {
-  if (place(value, "").second < 0)
+  if (source_of(value, "").second < 0)
     return "";
   std::istringstream conditions(key.when);
   for (std::string condition; std::getline(conditions, condition, ',');)
   {
     const std::string name = condition.substr(0, condition.find('='));
     const toml::node* n = user.at_path(name).node();
-    if (!n || place(*n, "").second >= 0)
+    if (!n || source_of(*n, "").second >= 0)
       continue;
     Key single = key;
     single.when = condition;
     if (!applies(single, user))
-      return place(*n, "").first;
+      return source_of(*n, "").first;
   }
   return "";
 }
@@ -497,7 +497,7 @@ void check_conditions(const toml::table& t, const std::string& prefix,
                                + " applies only when " + key->when;
       if (const std::string option = switched_off_by(*key, v, user); !option.empty())
       {
-        notes.push_back(place(v, file).first + ": " + what + ", which " + option
+        notes.push_back(source_of(v, file).first + ": " + what + ", which " + option
                         + " turned off: ignored");
         dropped.push_back(name);
         continue;
@@ -694,7 +694,7 @@ const toml::node& Scene::node(const std::string& key) const
 std::pair<std::string, int> Scene::origin(const std::string& key) const
 {
   if (const toml::node* n = _user.at_path(key).node())
-    return place(*n, _file.string());
+    return source_of(*n, _file.string());
   return {"", 0};
 }
 
@@ -795,7 +795,7 @@ std::string describe(bool markdown)
     const std::string when
         = k.when.empty() ? "" : " (only when " + k.when + ")";
     // A table cell escapes the column separator.
-    auto cell = [](const std::string& text)
+    auto escape_bars = [](const std::string& text)
     {
       std::string escaped;
       for (char c : text)
@@ -809,7 +809,7 @@ std::string describe(bool markdown)
     if (markdown)
       s << "| `" << k.name << "` | `" << k.default_value << "` | "
         << (k.unit.empty() ? "-" : k.unit) << " | " << acc << " | "
-        << cell(k.description + when) << " |\n";
+        << escape_bars(k.description + when) << " |\n";
     else
       s << k.name << " = " << k.default_value
         << (k.unit.empty() ? "" : "  [" + k.unit + "]") << "\n    " << acc

@@ -107,7 +107,7 @@ Report solve(solid::Problem& problem, const Settings& settings,
   }
 }
 
-std::vector<std::array<double, 3>> carry(const dolfinx::mesh::Mesh& mesh,
+std::vector<std::array<double, 3>> points_on_current(const dolfinx::mesh::Mesh& mesh,
                                          const std::vector<double>& x_from,
                                          const std::vector<std::array<double, 3>>& points)
 {

@@ -75,7 +75,7 @@ std::array<double, 2> mismatch(const solid::Problem& problem,
 /// Points of the geometry `x_from` (laid out as the mesh geometry's x)
 /// carried to the mesh's current geometry: same cell, same barycentric
 /// coordinates. Every rank gets every point; throws for a point outside.
-std::vector<std::array<double, 3>> carry(const dolfinx::mesh::Mesh& mesh,
+std::vector<std::array<double, 3>> points_on_current(const dolfinx::mesh::Mesh& mesh,
                                          const std::vector<double>& x_from,
                                          const std::vector<std::array<double, 3>>& points);
 
