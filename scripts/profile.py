@@ -3,13 +3,7 @@
 
 Usage: scripts/profile.py RUN_DIR_OR_SUMMARY [--markdown]
 
-Columns: wall time; residual assemblies (count, of them the line
-search's, seconds); Jacobian assemblies; factorisations (the
-preconditioner's set-up: MUMPS LU); linear solves (count, Krylov
-iterations, seconds; LU back-solves under preonly); the bordered system's
-extra work (its B, C assembly and solves, counted in the columns before
-it too); field output; the rest of the phase (the log, the state's
-bookkeeping, biomarkers).
+The columns are python/nct/timing.py's.
 """
 import pathlib
 import sys

@@ -1,9 +1,8 @@
 #!/bin/sh
 # The README's second command: build if needed, then run every test (ctest).
 # Extra arguments go to ctest, e.g. scripts/test.sh -L scene or -R bad_input;
-# without any, the tests labelled "slow" (most of the hard-case matrix,
-# cases/hard-cases, and one checkpoint case) are left out:
-# scripts/test.sh -L hard and -L checkpoint run them.
+# without any, the tests labelled "slow" (the 3D hard-case matrix,
+# cases/hard-cases) are left out: scripts/test.sh -L hard runs them.
 set -eu
 cd "$(dirname "$0")/.."
 scripts/build.sh

@@ -2,7 +2,7 @@
 
 study_ablation.py NCT STUDY OUT
 
-Starts `nct study` on an ablation of the coarsest puff (three variants),
+Starts `nct study` on an ablation of the default scene's section (three variants),
 interrupts it (SIGINT) once a case has finished, and checks that it
 stopped (exit 130) with the finished cases on disk. Run again, it must
 run only the rest (the finished summaries untouched); then cases.csv

@@ -2,7 +2,7 @@
 
 study_resume.py NCT STUDY OUT
 
-Starts `nct study` on a 2^2 study of the coarsest puff, interrupts it
+Starts `nct study` on a 2^2 study of the default scene's section, interrupts it
 (SIGINT) once a case has finished, and checks that it stopped its runs
 (exit 130, no nct left behind) with the finished cases on disk. Run again,
 it must run only the rest (the finished summaries untouched) and analyse

@@ -54,7 +54,7 @@ struct Observation
   std::vector<double> t, x, value, sd; ///< per point (a biomarker: one, t and x unused)
 };
 
-/// One patient of a cohort: a row of its table (docs/manual.md, "Cohorts").
+/// One patient of a cohort: a row of its table (docs/manual.md, "Fit a cohort").
 struct Patient
 {
   std::string id;                ///< the `patient` column: its folder's name in the output
@@ -76,7 +76,7 @@ struct Cohort
   std::vector<Patient> patients;
 };
 
-/// A validated fit file (docs/manual.md, "Fits").
+/// A validated fit file (docs/manual.md, "Fit a patient").
 struct Fit
 {
   std::filesystem::path file;

@@ -309,7 +309,7 @@ Patient read_patient(const std::vector<std::string>& row, const std::vector<std:
 }
 
 /// The [cohort] table of a fit file and its patients' table (docs/manual.md,
-/// "Cohorts"): every column known, every cell readable, before any run.
+/// "Fit a cohort"): every column known, every cell readable, before any run.
 Cohort read_cohort(const toml::table& ct, const fs::path& file)
 {
   io::KeyErrors errors(file, ct);

@@ -40,7 +40,7 @@ struct Case
   std::filesystem::path scene;   ///< the scene it overrides (the study's, or its variant's)
 };
 
-/// A validated study file (docs/manual.md, "Studies").
+/// A validated study file (docs/manual.md, "Run a study").
 struct Study
 {
   std::filesystem::path file;  ///< the study file
