@@ -115,7 +115,7 @@ N = section.vector(FacetNormal(cell), dimension)  # noqa: F821
 grad_v = section.gradient(v, dimension)  # noqa: F821
 
 
-def pad(w):
+def as_3d(w):
     """w as a 3-vector (section.py). Inline: in 3D it is w itself, and
     FFCx names a coefficient after the last global bound to it."""
     return section.vector(w, dimension)  # noqa: F821
@@ -152,11 +152,11 @@ def balance(w):
                                                                poisson_ratio), Fw), grad_v)
             * r * dx(COMPRESSIBLE_NEO_HOOKEAN)
             + inner(P_cnh_volume, grad_v) * r * dx_volume(COMPRESSIBLE_NEO_HOOKEAN)
-            + cavity.follower_pressure(p_cavity_1, Fw, N, pad(v)) * r * ds(CAVITY_1_WALL)
-            + cavity.follower_pressure(p_cavity_2, Fw, N, pad(v)) * r * ds(CAVITY_2_WALL)
-            + (support.lid_pressure(p_cavity_1, lid_1, N, pad(v))
-               + support.lid_pressure(p_cavity_2, lid_2, N, pad(v))) * r * ds(SUPPORT)
-            + cavity.follower_pressure(p_press * press_profile, Fw, N, pad(v)) * r * ds(PRESS))
+            + cavity.follower_pressure(p_cavity_1, Fw, N, as_3d(v)) * r * ds(CAVITY_1_WALL)
+            + cavity.follower_pressure(p_cavity_2, Fw, N, as_3d(v)) * r * ds(CAVITY_2_WALL)
+            + (support.lid_pressure(p_cavity_1, lid_1, N, as_3d(v))
+               + support.lid_pressure(p_cavity_2, lid_2, N, as_3d(v))) * r * ds(SUPPORT)
+            + cavity.follower_pressure(p_press * press_profile, Fw, N, as_3d(v)) * r * ds(PRESS))
 
 
 F = deformation_gradient(u)
@@ -175,16 +175,16 @@ J = derivative(R, u, du)
 x0 = Constant(cell, shape=(3 if dimension == "3d" else 2,))  # noqa: F821
 x = section.vector(SpatialCoordinate(cell) + u, dimension)  # noqa: F821
 d_space = section.space_dimension(dimension)  # noqa: F821
-volume_1 = (cavity.volume(x, F, N, pad(x0), d_space) * r * ds(CAVITY_1_WALL)
-            + support.lid_volume(lid_1, pad(u), N, d_space) * r * ds(SUPPORT))
-volume_2 = (cavity.volume(x, F, N, pad(x0), d_space) * r * ds(CAVITY_2_WALL)
-            + support.lid_volume(lid_2, pad(u), N, d_space) * r * ds(SUPPORT))
+volume_1 = (cavity.volume(x, F, N, as_3d(x0), d_space) * r * ds(CAVITY_1_WALL)
+            + support.lid_volume(lid_1, as_3d(u), N, d_space) * r * ds(SUPPORT))
+volume_2 = (cavity.volume(x, F, N, as_3d(x0), d_space) * r * ds(CAVITY_2_WALL)
+            + support.lid_volume(lid_2, as_3d(u), N, d_space) * r * ds(SUPPORT))
 
 # The border of the closed-cavity system: dR/dp_c and dV_c/du.
-cavity_load_1 = (cavity.follower_pressure(1.0, F, N, pad(v)) * r * ds(CAVITY_1_WALL)
-                 + support.lid_pressure(1.0, lid_1, N, pad(v)) * r * ds(SUPPORT))
-cavity_load_2 = (cavity.follower_pressure(1.0, F, N, pad(v)) * r * ds(CAVITY_2_WALL)
-                 + support.lid_pressure(1.0, lid_2, N, pad(v)) * r * ds(SUPPORT))
+cavity_load_1 = (cavity.follower_pressure(1.0, F, N, as_3d(v)) * r * ds(CAVITY_1_WALL)
+                 + support.lid_pressure(1.0, lid_1, N, as_3d(v)) * r * ds(SUPPORT))
+cavity_load_2 = (cavity.follower_pressure(1.0, F, N, as_3d(v)) * r * ds(CAVITY_2_WALL)
+                 + support.lid_pressure(1.0, lid_2, N, as_3d(v)) * r * ds(SUPPORT))
 dvolume_1 = derivative(volume_1, u, v)
 dvolume_2 = derivative(volume_2, u, v)
 
@@ -233,12 +233,12 @@ R_dynamic = (density * inner(dynamics.level(a_new, a_old, alpha_m)
                                       dynamics.level(v_new, v_old, alpha_f), v) * r * ds(SUPPORT))
 J_dynamic = derivative(R_dynamic, u, du)
 F_mid = deformation_gradient(u_mid)
-cavity_load_dynamic_1 = (cavity.follower_pressure(1.0, F_mid, N, pad(v)) * r
+cavity_load_dynamic_1 = (cavity.follower_pressure(1.0, F_mid, N, as_3d(v)) * r
                          * ds(CAVITY_1_WALL)
-                         + support.lid_pressure(1.0, lid_1, N, pad(v)) * r * ds(SUPPORT))
-cavity_load_dynamic_2 = (cavity.follower_pressure(1.0, F_mid, N, pad(v)) * r
+                         + support.lid_pressure(1.0, lid_1, N, as_3d(v)) * r * ds(SUPPORT))
+cavity_load_dynamic_2 = (cavity.follower_pressure(1.0, F_mid, N, as_3d(v)) * r
                          * ds(CAVITY_2_WALL)
-                         + support.lid_pressure(1.0, lid_2, N, pad(v)) * r * ds(SUPPORT))
+                         + support.lid_pressure(1.0, lid_2, N, as_3d(v)) * r * ds(SUPPORT))
 
 # Energies (for checks): stored in the solid at u, kinetic at v_n.
 strain_energy = (psi_hgo * r * dx(HGO) + psi_neo_hookean * r * dx(NEO_HOOKEAN)
