@@ -4,8 +4,9 @@
     /usr/bin/python3 scripts/plot-study.py STUDY_FOLDER
 
 writes into STUDY_FOLDER/plots correlation.png, main_effects.png and
-pareto.png (a factorial or one-factor-at-a-time study) or variants.png (an
-ablation); what each shows: python/nct/study.py.
+pareto.png (a factorial or one-factor-at-a-time study), correlation.png (a
+table design) or variants.png (an ablation); what each shows:
+python/nct/study.py.
 """
 import pathlib
 import sys

@@ -191,6 +191,53 @@ TEST(Study, Designs)
   EXPECT_EQ(o.cases[4].levels, (std::vector<int>{-1, 1}));
 }
 
+// A table design: a case per row of its CSV, a column per factor's label
+// (in any order), the values passed on exactly; the levels are each
+// factor's distinct values in the order met.
+TEST(Study, TableDesign)
+{
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string scene = std::string(NCT_SOURCE_DIR) + "/scenes/default.toml";
+  std::ofstream(dir / "nct_study_table.csv")
+      << "IOP, C10\n12.5,0.1\n\n20.0,0.1\n12.5,0.0523456789012345\n";
+  std::ofstream(dir / "nct_study_table.toml")
+      << "[study]\nscene = \"" << scene << "\"\ndesign = \"table\"\n"
+      << "cases = \"nct_study_table.csv\"\nresponses = [\"deflection_amplitude_mm\"]\n"
+      << "[[factor]]\nkey = [\"material.cornea.c10\", \"material.limbus.c10\"]\nlabel = \"C10\"\n"
+      << "[[factor]]\nkey = \"inflate.iop\"\nlabel = \"IOP\"\n";
+  auto t = nct::study::Study::load(dir / "nct_study_table.toml");
+  ASSERT_EQ(t.cases.size(), 3u);
+  EXPECT_EQ(t.cases[0].levels, (std::vector<int>{0, 0}));
+  EXPECT_EQ(t.cases[1].levels, (std::vector<int>{0, 1}));
+  EXPECT_EQ(t.cases[2].levels, (std::vector<int>{1, 0}));
+  EXPECT_EQ(t.cases[2].sets,
+            (std::vector<std::string>{"material.cornea.c10=0.0523456789012345",
+                                      "material.limbus.c10=0.0523456789012345",
+                                      "inflate.iop=12.5"}));
+  EXPECT_EQ(t.factor_value(t.cases[1], 1), 20.0);
+  EXPECT_EQ(std::stod(t.factors[0].levels[1]), 0.0523456789012345);
+
+  // A repeated row is the same case; a column no factor names is refused.
+  std::ofstream(dir / "nct_study_table.csv") << "IOP,C10\n12.5,0.1\n12.5,0.1\n";
+  EXPECT_THROW(
+      {
+        try
+        {
+          nct::study::Study::load(dir / "nct_study_table.toml");
+        }
+        catch (const std::exception& e)
+        {
+          EXPECT_NE(std::string(e.what()).find("nct_study_table.csv:3: the same case as line 2"),
+                    std::string::npos)
+              << e.what();
+          throw;
+        }
+      },
+      std::exception);
+  std::ofstream(dir / "nct_study_table.csv") << "IOP,C10,k1\n12.5,0.1,1\n";
+  EXPECT_THROW(nct::study::Study::load(dir / "nct_study_table.toml"), std::exception);
+}
+
 // An ablation against its baseline, worked by hand. Baseline 2: 3 is
 // +1 (+50 %), 1.5 is -0.5 (-25 %); a failed case has no value and no
 // difference. A negative baseline -4: -3 is +1, 100 * 1 / |-4| = +25 %.

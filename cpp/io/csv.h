@@ -1,5 +1,5 @@
-// Numeric CSV tables (puff tables, radial profiles, inlet profiles): a
-// fixed header, then rows of N finite numbers.
+// Numeric CSV tables (puff tables, radial profiles, inlet profiles, a
+// study's design): a header, then rows of finite numbers.
 #pragma once
 
 #include <algorithm>
@@ -30,12 +30,20 @@ struct Rows
   throw std::invalid_argument(file.string() + ":" + std::to_string(line) + ": " + what);
 }
 
-/// Read `file` (a `what`, for the messages): the first line must be
-/// `header` (spaces ignored), every other non-blank line N finite numbers;
-/// at least one row. Throws std::invalid_argument naming the file and line.
-template <std::size_t N>
-Rows<N> read_csv(const std::filesystem::path& file, const std::string& header,
-                 const std::string& what)
+/// A CSV table of numbers: its column names and rows.
+struct NumberTable
+{
+  std::vector<std::string> header;        ///< column names, spaces removed
+  std::vector<std::vector<double>> rows;  ///< each as wide as the header
+  std::vector<int> lines;                 ///< each row's line in the file
+};
+
+/// Read `file` (a `what`, for the messages): the first line is the
+/// header, `header` itself when given (spaces ignored), every other
+/// non-blank line as many finite numbers as it has columns; at least one
+/// row. Throws std::invalid_argument naming the file and line.
+inline NumberTable read_number_table(const std::filesystem::path& file, const std::string& what,
+                                     const std::string& header = "")
 {
   static const char* count[] = {"zero", "one", "two", "three", "four", "five"};
   std::ifstream in(file);
@@ -43,19 +51,24 @@ Rows<N> read_csv(const std::filesystem::path& file, const std::string& header,
     throw std::invalid_argument(file.string() + ": cannot open the " + what);
   std::string text;
   if (!std::getline(in, text))
-    csv_error(file, 1, "empty file; expected the header " + header);
+    csv_error(file, 1,
+              "empty file; expected " + (header.empty() ? "a header" : "the header " + header));
   text.erase(std::remove_if(text.begin(), text.end(), ::isspace), text.end());
-  if (text != header)
+  if (!header.empty() && text != header)
     csv_error(file, 1, "header '" + text + "'; expected " + header);
-  Rows<N> rows;
+  NumberTable t;
+  std::istringstream names(text);
+  for (std::string name; std::getline(names, name, ',');)
+    t.header.push_back(name);
+  const std::size_t n = t.header.size();
   for (int line = 2; std::getline(in, text); ++line)
   {
     if (std::all_of(text.begin(), text.end(), ::isspace))
       continue;
-    std::array<double, N> v;
+    std::vector<double> v(n);
     std::istringstream row(text);
     bool ok = true;
-    for (std::size_t i = 0; i < N && ok; ++i)
+    for (std::size_t i = 0; i < n && ok; ++i)
     {
       std::string cell;
       ok = static_cast<bool>(std::getline(row, cell, ','));
@@ -73,13 +86,37 @@ Rows<N> read_csv(const std::filesystem::path& file, const std::string& header,
     }
     std::string rest;
     if (!ok || std::getline(row, rest))
-      csv_error(file, line, "'" + text + "' is not " + (N < 6 ? count[N] : std::to_string(N))
-                                + " finite numbers " + header);
-    rows.values.push_back(v);
-    rows.lines.push_back(line);
+      csv_error(file, line, "'" + text + "' is not "
+                                + (n == 1  ? std::string("a finite number ")
+                                   : n < 6 ? count[n] + std::string(" finite numbers ")
+                                           : std::to_string(n) + " finite numbers ")
+                                + (header.empty() ? names.str() : header));
+    t.rows.push_back(std::move(v));
+    t.lines.push_back(line);
   }
-  if (rows.values.empty())
+  if (t.rows.empty())
     csv_error(file, 2, "no rows after the header");
+  return t;
+}
+
+/// Read `file` (a `what`, for the messages): the first line must be
+/// `header` (spaces ignored), every other non-blank line N finite numbers;
+/// at least one row. Throws std::invalid_argument naming the file and line.
+template <std::size_t N>
+Rows<N> read_csv(const std::filesystem::path& file, const std::string& header,
+                 const std::string& what)
+{
+  const NumberTable t = read_number_table(file, what, header);
+  if (t.header.size() != N)
+    throw std::logic_error("read_csv<" + std::to_string(N) + ">: header " + header);
+  Rows<N> rows;
+  for (const auto& r : t.rows)
+  {
+    std::array<double, N> v;
+    std::copy(r.begin(), r.end(), v.begin());
+    rows.values.push_back(v);
+  }
+  rows.lines = t.lines;
   return rows;
 }
 

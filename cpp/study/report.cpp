@@ -47,7 +47,7 @@ nlohmann::json json_number(double v)
 /// (every factor at the scene's value).
 bool compared_for(const Study& s, const Case& c, std::size_t i)
 {
-  return s.design == "factorial" || c.levels[i] >= 0
+  return s.design == "factorial" || s.design == "table" || c.levels[i] >= 0
          || std::all_of(c.levels.begin(), c.levels.end(), [](int l) { return l < 0; });
 }
 
@@ -289,6 +289,22 @@ void analyse_factors(const Study& s, const std::vector<Result>& results, const f
   io::write_atomic(out / "analysis.json", tables.json.dump(2) + "\n");
 }
 
+/// A table design's cases (a space-filling design, an emulator's
+/// training runs) have no effects to rank: their correlations into the
+/// study folder (correlation.csv, analysis.json); cases.csv holds the rest.
+void analyse_table(const Study& s, const std::vector<Result>& results, const fs::path& out)
+{
+  nlohmann::json json;
+  json["design"] = s.design;
+  json["cases"] = s.cases.size();
+  const std::string corr = correlation_csv(s, results, json);
+  if (!corr.empty())
+    io::write_atomic(out / "correlation.csv", corr);
+  else
+    fs::remove(out / "correlation.csv");
+  io::write_atomic(out / "analysis.json", json.dump(2) + "\n");
+}
+
 /// The widest variant name (7 at least: the header "variant").
 int variant_width(const Study& s)
 {
@@ -434,6 +450,8 @@ void analyse(const Study& s, const std::vector<Result>& results, const fs::path&
 {
   if (s.design == "ablation")
     analyse_ablation(s, results, out);
+  else if (s.design == "table")
+    analyse_table(s, results, out);
   else
     analyse_factors(s, results, out);
 }
@@ -446,6 +464,8 @@ int report_outcome(const Study& s, const std::vector<Result>& results, const fs:
   std::string tables = "cases.csv, ";
   if (s.design == "ablation")
     tables += "ablation.csv, ";
+  else if (s.design == "table")
+    tables += fs::exists(out / "correlation.csv") ? "correlation.csv, " : "";
   else
   {
     tables += "effects.csv, ";

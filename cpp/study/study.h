@@ -45,9 +45,10 @@ struct Study
 {
   std::filesystem::path file;  ///< the study file
   std::filesystem::path scene; ///< the base scene (relative to the study file)
-  std::string design;          ///< "factorial" (2^k full), "ofat" or "ablation"
+  std::string design;          ///< "factorial" (2^k full), "ofat", "ablation" or "table"
+  std::filesystem::path cases_file; ///< table: the CSV of its cases (relative to the file)
   std::vector<std::string> sets; ///< overrides of every case
-  std::vector<Factor> factors;   ///< factorial and ofat
+  std::vector<Factor> factors;   ///< factorial, ofat and table (its levels: the values met)
   std::vector<Variant> variants; ///< ablation: the first is the baseline
   std::vector<std::string> responses; ///< summary.json keys
   int ranks; ///< MPI ranks per case
@@ -56,7 +57,7 @@ struct Study
   jobs::Launcher launcher; ///< where the cases run: this machine or Slurm
   std::vector<Case> cases; ///< factorial: Yates order (the first factor changes fastest);
                            ///< ofat: the base scene, then each factor's levels in turn;
-                           ///< ablation: one per variant, in order
+                           ///< ablation: one per variant, in order; table: its rows
   std::vector<double> base_values; ///< ofat: each factor's value in the base scene
 
   /// Read and validate a study file (and every case's scene keys). Throws

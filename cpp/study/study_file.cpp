@@ -1,10 +1,12 @@
 // Reading and validating a study file (cpp/study/study.h): its [study]
 // table, its factors or variants, and every case's scene.
 #include <algorithm>
+#include <charconv>
 
 #include <toml++/toml.h>
 
 #include "biomarkers/registry.h"
+#include "io/csv.h"
 #include "io/format.h"
 #include "io/toml_input.h"
 #include "jobs/launcher_input.h"
@@ -60,6 +62,13 @@ Factor read_factor(const toml::table& ft, std::size_t i, const Study& s, io::Key
   for (auto& g : s.factors)
     if (g.label == f.label)
       throw key_error(file, where + "label", "'" + f.label + "' names two factors");
+  if (s.design == "table")
+  {
+    if (ft.contains("levels"))
+      throw key_error(file, where + "levels", "a table design takes each case's values from "
+                                              "study.cases: drop levels");
+    return f;
+  }
   const toml::array* levels = ft["levels"].as_array();
   if (!levels)
     throw key_error(file, where + "levels", "missing or not an array: the factor's levels");
@@ -150,8 +159,77 @@ void one_factor_cases(Study& s)
   }
 }
 
-/// The factors of a factorial or one-factor-at-a-time study, and its
-/// cases (when every factor reads).
+/// v as the shortest TOML float literal that reads back as v.
+std::string shortest_literal(double v)
+{
+  char buf[32];
+  const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;
+  std::string s(buf, end);
+  if (s.find_first_of(".e") == std::string::npos)
+    s += ".0";
+  return s;
+}
+
+/// A table design's cases: a row of study.cases each, a column per
+/// factor (named by its label); each factor's levels are its distinct
+/// values in the order they first appear.
+void table_cases(Study& s)
+{
+  io::NumberTable t;
+  try
+  {
+    t = io::read_number_table(s.cases_file, "design table");
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw key_error(s.file, "study.cases", e.what());
+  }
+  std::vector<std::size_t> column(s.factors.size());
+  for (std::size_t i = 0; i < s.factors.size(); ++i)
+  {
+    const auto at = std::find(t.header.begin(), t.header.end(), s.factors[i].label);
+    if (at == t.header.end())
+      throw key_error(s.file, "study.cases", s.cases_file.string() + ": no column '"
+                                                 + s.factors[i].label + "' (factor "
+                                                 + std::to_string(i + 1) + "'s label)");
+    column[i] = std::size_t(at - t.header.begin());
+  }
+  for (const std::string& name : t.header)
+    if (std::count(t.header.begin(), t.header.end(), name) > 1
+        || std::none_of(s.factors.begin(), s.factors.end(),
+                        [&](const Factor& f) { return f.label == name; }))
+      throw key_error(s.file, "study.cases",
+                      s.cases_file.string() + ": the column '" + name + "' is "
+                          + (std::count(t.header.begin(), t.header.end(), name) > 1
+                                 ? "given twice"
+                                 : "no factor's label"));
+  for (std::size_t r = 0; r < t.rows.size(); ++r)
+  {
+    std::vector<int> levels(s.factors.size());
+    for (std::size_t i = 0; i < s.factors.size(); ++i)
+    {
+      Factor& f = s.factors[i];
+      const double v = t.rows[r][column[i]];
+      auto at = std::find(f.values.begin(), f.values.end(), v);
+      if (at == f.values.end())
+      {
+        f.values.push_back(v);
+        f.levels.push_back(shortest_literal(v));
+        at = f.values.end() - 1;
+      }
+      levels[i] = int(at - f.values.begin());
+    }
+    for (std::size_t c = 0; c < s.cases.size(); ++c)
+      if (s.cases[c].levels == levels)
+        throw key_error(s.file, "study.cases",
+                        format("%s:%d: the same case as line %d", s.cases_file.string().c_str(),
+                               t.lines[r], t.lines[c]));
+    s.cases.push_back(case_at(s, levels));
+  }
+}
+
+/// The factors of a factorial, one-factor-at-a-time or table study, and
+/// its cases (when every factor reads).
 void read_factors(const toml::table& t, Study& s, io::KeyErrors& errors)
 {
   const toml::array* factors = t["factor"].as_array();
@@ -166,6 +244,8 @@ void read_factors(const toml::table& t, Study& s, io::KeyErrors& errors)
     return;
   if (s.design == "factorial")
     factorial_cases(s);
+  else if (s.design == "table")
+    table_cases(s);
   else
     one_factor_cases(s);
 }
@@ -252,7 +332,7 @@ std::vector<std::string> read_responses(const toml::table& st, const fs::path& f
 std::pair<bool, bool> read_study_table(const toml::table& st, Study& s, io::KeyErrors& errors)
 {
   const fs::path& file = s.file;
-  std::set<std::string> known = {"scene", "design", "responses", "set", "ranks", "jobs",
+  std::set<std::string> known = {"scene", "design", "cases", "responses", "set", "ranks", "jobs",
                                  "mpiexec"};
   known.insert(jobs::launcher_keys().begin(), jobs::launcher_keys().end());
   refuse_unknown_study_keys(st, known, file, "study.", errors);
@@ -263,10 +343,25 @@ std::pair<bool, bool> read_study_table(const toml::table& st, Study& s, io::KeyE
   });
   const bool design_read = errors.attempt([&] {
     s.design = st["design"].value_or<std::string>("factorial");
-    if (s.design != "factorial" && s.design != "ofat" && s.design != "ablation")
+    if (s.design != "factorial" && s.design != "ofat" && s.design != "ablation"
+        && s.design != "table")
       throw key_error(file, "study.design", "\"factorial\" (2^k full), \"ofat\" (one factor "
-                                            "at a time) or \"ablation\" (named variants against "
-                                            "the first), got \"" + s.design + "\"");
+                                            "at a time), \"ablation\" (named variants against "
+                                            "the first) or \"table\" (the cases of a CSV "
+                                            "file, study.cases), got \"" + s.design + "\"");
+    const toml::node* cases = st["cases"].node();
+    if (s.design == "table" && !(cases && cases->is_string()))
+      throw key_error(file, "study.cases", "missing: a table design's CSV file (a column per "
+                                           "factor's label, a row per case)");
+    if (s.design != "table" && cases)
+      throw key_error(file, "study.cases", "only a table design reads its cases from a file; "
+                                           "this study's design is \"" + s.design + "\"");
+    if (cases)
+    {
+      s.cases_file = file.parent_path() / *cases->value<std::string>();
+      if (!fs::exists(s.cases_file))
+        throw key_error(file, "study.cases", s.cases_file.string() + " not found");
+    }
   });
   errors.attempt([&] { s.responses = read_responses(st, file); });
   errors.attempt([&] {

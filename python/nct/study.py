@@ -11,7 +11,8 @@ plot writes, for a factorial or one-factor-at-a-time study:
 - pareto.png: per response, the terms' |effect| largest first, with the
   cumulative share of the explained sum of squares (factorial) or of the
   |effects| (one factor at a time);
-for an ablation (design = "ablation"):
+for a table design (design = "table": the cases of a CSV file), its
+correlation.png alone; for an ablation (design = "ablation"):
 - variants.png: one panel per response, a bar per variant (the baseline
   first, hatched, labelled with its value), each other labelled with its
   percent difference from the baseline (its difference where the baseline
@@ -181,6 +182,8 @@ def plot(folder):
     plots.mkdir(exist_ok=True)
     if study.analysis["design"] == "ablation":
         written = [_variants(study, plots / "variants.png")]
+    elif study.analysis["design"] == "table":
+        written = [_correlation(study, plots / "correlation.png")]
     else:
         written = [_correlation(study, plots / "correlation.png"),
                    _main_effects(study, plots / "main_effects.png"),
@@ -261,6 +264,8 @@ def report(folder, terms=8):
         status += f"; wall time per case {min(walls):.0f} to {max(walls):.0f} s"
     if study.analysis["design"] == "ablation":
         return ablation_table(study) + "\n\n" + status
+    if study.analysis["design"] == "table":
+        return f"{len(cases)} cases from a table (cases.csv: their values and responses); " + status
     if len(walls):
         status += f" (mean {sum(walls) / len(walls):.0f} s)"
     return rankings(study, terms) + "\n" + status
