@@ -236,6 +236,27 @@ TEST(Study, TableDesign)
       std::exception);
   std::ofstream(dir / "nct_study_table.csv") << "IOP,C10,k1\n12.5,0.1,1\n";
   EXPECT_THROW(nct::study::Study::load(dir / "nct_study_table.toml"), std::exception);
+
+  // A factor's range (the box a design fills): a value outside it is
+  // refused with its line; the ends are inside.
+  std::ofstream(dir / "nct_study_table.toml", std::ios::app)
+      << "range = [8.0, 35.0]\n";
+  std::ofstream(dir / "nct_study_table.csv") << "IOP,C10\n8.0,0.1\n35.0,0.1\n";
+  EXPECT_EQ(nct::study::Study::load(dir / "nct_study_table.toml").factors[1].range,
+            (std::vector<double>{8, 35}));
+  std::ofstream(dir / "nct_study_table.csv") << "IOP,C10\n8.0,0.1\n35.5,0.1\n";
+  try
+  {
+    nct::study::Study::load(dir / "nct_study_table.toml");
+    ADD_FAILURE() << "IOP = 35.5 outside [8, 35] was accepted";
+  }
+  catch (const std::exception& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("nct_study_table.csv:3: IOP = 35.5 is outside its range "
+                                         "[8, 35]"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // An ablation against its baseline, worked by hand. Baseline 2: 3 is

@@ -19,6 +19,8 @@ struct Factor
   std::vector<std::string> keys;  ///< scene keys, e.g. material.cornea.k1
   std::vector<std::string> levels; ///< TOML literal of each level, as --set takes it
   std::vector<double> values;     ///< each level's number (a string level: its index)
+  std::vector<double> range;      ///< table design: {low, high} its values must lie in (or none)
+  std::string scale = "linear";   ///< table design: how a design fills the range ("log")
 };
 
 /// An ablation variant: named overrides of the base scene.

@@ -45,12 +45,37 @@ void refuse_unknown_study_keys(const toml::table& t, const std::set<std::string>
   io::refuse_unknown_keys(t, known, file, where, table, errors);
 }
 
+/// A table design's factor's optional range = [low, high] and scale
+/// ("linear" or "log", which needs low > 0).
+void read_range(const toml::table& ft, const std::string& where, Factor& f, const fs::path& file)
+{
+  f.scale = ft["scale"].value_or<std::string>("linear");
+  if (f.scale != "linear" && f.scale != "log")
+    throw key_error(file, where + "scale", "\"linear\" or \"log\", got \"" + f.scale + "\"");
+  if (!ft.contains("range"))
+  {
+    if (ft.contains("scale"))
+      throw key_error(file, where + "scale", "a scale needs a range = [low, high]");
+    return;
+  }
+  const toml::array* r = ft["range"].as_array();
+  if (!r || r->size() != 2 || !r->get(0)->is_number() || !r->get(1)->is_number())
+    throw key_error(file, where + "range", "two numbers [low, high]");
+  f.range = {*r->get(0)->value<double>(), *r->get(1)->value<double>()};
+  if (!(f.range[0] < f.range[1]))
+    throw key_error(file, where + "range", format("low %g is not below high %g", f.range[0],
+                                                  f.range[1]));
+  if (f.scale == "log" && f.range[0] <= 0)
+    throw key_error(file, where + "range", format("a log scale needs low > 0, got %g",
+                                                  f.range[0]));
+}
+
 /// One [[factor]] table (the i-th): its keys, label and levels.
 Factor read_factor(const toml::table& ft, std::size_t i, const Study& s, io::KeyErrors& errors)
 {
   const fs::path& file = s.file;
   const std::string where = "factor[" + std::to_string(i + 1) + "].";
-  refuse_unknown_study_keys(ft, {"key", "levels", "label"}, file, where, errors);
+  refuse_unknown_study_keys(ft, {"key", "levels", "label", "range", "scale"}, file, where, errors);
   Factor f;
   if (!ft["key"])
     throw key_error(file, where + "key", "missing: the scene key (or keys) the factor sets");
@@ -62,11 +87,16 @@ Factor read_factor(const toml::table& ft, std::size_t i, const Study& s, io::Key
   for (auto& g : s.factors)
     if (g.label == f.label)
       throw key_error(file, where + "label", "'" + f.label + "' names two factors");
+  if (s.design != "table" && (ft.contains("range") || ft.contains("scale")))
+    throw key_error(file, where + (ft.contains("range") ? "range" : "scale"),
+                    "a factor's range and scale belong to a table design (the box its design "
+                    "fills); a " + s.design + " study gives levels");
   if (s.design == "table")
   {
     if (ft.contains("levels"))
       throw key_error(file, where + "levels", "a table design takes each case's values from "
                                               "study.cases: drop levels");
+    read_range(ft, where, f, file);
     return f;
   }
   const toml::array* levels = ft["levels"].as_array();
@@ -210,6 +240,11 @@ void table_cases(Study& s)
     {
       Factor& f = s.factors[i];
       const double v = t.rows[r][column[i]];
+      if (!f.range.empty() && (v < f.range[0] || v > f.range[1]))
+        throw key_error(s.file, "study.cases",
+                        format("%s:%d: %s = %s is outside its range [%g, %g]",
+                               s.cases_file.string().c_str(), t.lines[r], f.label.c_str(),
+                               shortest_literal(v).c_str(), f.range[0], f.range[1]));
       auto at = std::find(f.values.begin(), f.values.end(), v);
       if (at == f.values.end())
       {
