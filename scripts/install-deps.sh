@@ -27,6 +27,8 @@ packages=(
   # checkpoint test's matching of points across partitions (k-d tree) and
   # its XPath look-ups in the XDMF files
   python3-scipy python3-lxml
+  # emulators: Gaussian processes (scikit-learn's GaussianProcessRegressor)
+  python3-sklearn
 )
 
 missing=()
