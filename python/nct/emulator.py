@@ -148,7 +148,7 @@ def export(em, path):
     out = {"format": "nct-emulator-1", "noise_mm": NOISE_MM,
            "box": [{"input": n, "range": [float(lo), float(hi)], "scale": "log" if g else "linear"}
                    for n, lo, hi, g in zip(em.box.names, em.box.low, em.box.high, em.box.log)],
-           "curves": {"blocks": dict(zip(CURVES, em.sizes)), "mean": em.mean.tolist(),
+           "curves": {"blocks": [[b, n] for b, n in zip(CURVES, em.sizes)], "mean": em.mean.tolist(),
                       "basis": em.basis.tolist(), "truncation": em.truncation.tolist(),
                       "share": em.share,
                       "components": [_export_gp(gp, em.X) for gp in em.weights]},

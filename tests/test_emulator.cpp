@@ -1,0 +1,88 @@
+// The emulator evaluated in C++ from its exported file against
+// scikit-learn's own predictions (tests/emulator_fixture.py writes both,
+// ctest runs it first): means to 1e-10 (relative above 1: the sum k*^T alpha
+// cancels, and its order is the library's own), variances to 1e-12, the
+// gradient against scikit-learn's central differences, an input outside
+// the box refused by name.
+#include <cstdlib>
+#include <fstream>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "emulator/emulator.h"
+
+namespace
+{
+std::filesystem::path fixture()
+{
+  const char* dir = std::getenv("NCT_EMULATOR_FIXTURE");
+  if (!dir)
+    throw std::runtime_error("NCT_EMULATOR_FIXTURE is not set: run this test through ctest, "
+                             "after tests/emulator_fixture.py");
+  return dir;
+}
+} // namespace
+
+TEST(Emulator, MatchesScikitLearn)
+{
+  const nct::emulator::Emulator em(fixture() / "emulator.json");
+  ASSERT_EQ(em.inputs().size(), 3u);
+  EXPECT_EQ(em.inputs()[0].name, "c10");
+  EXPECT_TRUE(em.inputs()[0].log);
+  EXPECT_EQ(em.blocks().front().first, "apex_mm");
+  const auto cases = nlohmann::json::parse(std::ifstream(fixture() / "expected.json"));
+  for (const auto& c : cases)
+  {
+    const std::vector<double> x = c.at("x");
+    const auto curves = em.curves(x);
+    const auto& p = c.at("prediction");
+    ASSERT_EQ(curves.size(), p.at("curves_mm").size());
+    for (std::size_t o = 0; o < curves.size(); ++o)
+    {
+      const double m = p.at("curves_mm")[o];
+      EXPECT_NEAR(curves[o].mean, m, 1e-10 * std::max(1.0, std::abs(m))) << o;
+      EXPECT_NEAR(curves[o].variance, p.at("curves_var_mm2")[o].get<double>(), 1e-12) << o;
+    }
+    for (const auto& [key, mv] : p.at("readings").items())
+    {
+      const auto v = em.reading(key, x);
+      const double m = mv.at(0);
+      EXPECT_NEAR(v.mean, m, 1e-10 * std::max(1.0, std::abs(m))) << key;
+      EXPECT_NEAR(v.variance, mv.at(1).get<double>(), 1e-12) << key;
+    }
+    // The analytic gradient against scikit-learn's central differences.
+    for (std::size_t j = 0; j < x.size(); ++j)
+    {
+      const auto& d = c.at("differences")[j];
+      double worst = 0, scale = 1e-12;
+      for (std::size_t o = 0; o < curves.size(); ++o)
+      {
+        const double fd = d.at("curves_mm")[o];
+        worst = std::max(worst, std::abs(curves[o].gradient[j] - fd));
+        scale = std::max(scale, std::abs(fd));
+      }
+      EXPECT_LT(worst / scale, 1e-5) << "input " << j;
+      for (const auto& [key, fd] : d.at("readings").items())
+        EXPECT_NEAR(em.reading(key, x).gradient[j], fd.get<double>(),
+                    1e-5 * std::max(1.0, std::abs(fd.get<double>())))
+            << key << ", input " << j;
+    }
+  }
+}
+
+TEST(Emulator, RefusesWhatItCannotAnswer)
+{
+  const nct::emulator::Emulator em(fixture() / "emulator.json");
+  try
+  {
+    em.curves({0.06, 40.0, 0.55});
+    ADD_FAILURE() << "an IOP of 40 outside [8, 35] was accepted";
+  }
+  catch (const std::out_of_range& e)
+  {
+    EXPECT_STREQ(e.what(), "iop = 40 is outside the emulator's box [8, 35]");
+  }
+  EXPECT_THROW(em.reading("no_such_reading", {0.06, 15.0, 0.55}), std::out_of_range);
+  EXPECT_THROW(em.curves({0.06, 15.0}), std::out_of_range);
+  EXPECT_THROW(nct::emulator::Emulator("no_such_emulator.json"), std::invalid_argument);
+}
