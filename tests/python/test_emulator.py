@@ -10,7 +10,7 @@ import warnings
 import numpy as np
 
 import fixtures  # noqa: F401 (puts the package on the path)
-from nct import design, emulator, training
+from nct import design, emulator, training, validation
 
 BOX = [design.Factor("c10", ["material.cornea.c10"], 0.03, 0.12, "log"),
        design.Factor("iop", ["inflate.iop"], 8.0, 35.0, "linear"),
@@ -117,6 +117,20 @@ class Emulator(unittest.TestCase):
             z.append(e[len(T) // 2] / np.sqrt(p["curves_var_mm2"][len(T) // 2]))  # mid-puff apex
         self.assertLess(np.mean(rms), 0.01)            # half the device's noise
         self.assertGreaterEqual(np.mean(np.abs(z) < 2), 0.8)
+
+    def test_validation_report(self):
+        held = design.to_box(design.maximin_hypercube(3, 12, seed=9, candidates=50), BOX)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            r = validation.validate(self.em, data_at(held))
+        self.assertEqual((r["runs"], r["train_runs"]), (12, 30))
+        self.assertLess(r["apex_rms_um"], 10)
+        self.assertGreaterEqual(r["curves_within_2"], 0.8)
+        m = r["mahalanobis"]["component 1"]
+        self.assertEqual(m["expected"], 12)
+        self.assertLess(m["range"][0], 12)
+        self.assertGreater(m["range"][1], 12)
+        self.assertIn("| apex curve |", validation.markdown(r))
 
 
 if __name__ == "__main__":

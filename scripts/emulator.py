@@ -1,0 +1,53 @@
+#!/usr/bin/python3
+"""Train an emulator on a training set, export it, validate it on held-out runs.
+
+    /usr/bin/python3 scripts/emulator.py train DATA.json --out EMULATOR.json [--share S] [--seed N]
+    /usr/bin/python3 scripts/emulator.py validate DATA.json HELD.json [--first N] [--share S]
+
+DATA.json and HELD.json are training sets (python/nct/training.py, as
+cases/emulator-faithful-section/run writes them). `validate` trains on
+DATA (its first N runs with --first) and prints the held-out report
+(python/nct/validation.py) as Markdown.
+"""
+import argparse
+import pathlib
+import sys
+import time
+import warnings
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "python"))
+from nct import emulator, training, validation  # noqa: E402
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("command", choices=["train", "validate"])
+    p.add_argument("data")
+    p.add_argument("held", nargs="?")
+    p.add_argument("--out")
+    p.add_argument("--share", type=float, default=0.999)
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--first", type=int)
+    a = p.parse_args()
+    data = training.read(a.data)
+    if a.first:
+        data["runs"] = data["runs"][:a.first]
+    start = time.time()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # hyperparameters at their bounds: in the report
+        em = emulator.train(data, share=a.share, seed=a.seed)
+    print(f"trained on {len(data['runs'])} runs in {time.time() - start:.1f} s: "
+          f"{em.components} components, {len(em.readings)} readings", file=sys.stderr)
+    if a.command == "train":
+        if not a.out:
+            p.error("train needs --out")
+        emulator.export(em, a.out)
+        print(f"emulator -> {a.out}", file=sys.stderr)
+    else:
+        if not a.held:
+            p.error("validate needs HELD.json")
+        print(validation.markdown(validation.validate(em, training.read(a.held))))
+
+
+if __name__ == "__main__":
+    main()
