@@ -30,6 +30,9 @@ TEST(Emulator, MatchesScikitLearn)
   EXPECT_EQ(em.inputs()[0].name, "c10");
   EXPECT_TRUE(em.inputs()[0].log);
   EXPECT_EQ(em.blocks().front().first, "apex_mm");
+  EXPECT_EQ(em.blocks().front().second, em.t_ms().size());
+  EXPECT_EQ(em.profile_x_mm().size(), 7u);
+  EXPECT_EQ(em.profile_t_ms(), (std::vector<double>{5, 10, 15}));
   const auto cases = nlohmann::json::parse(std::ifstream(fixture() / "expected.json"));
   for (const auto& c : cases)
   {

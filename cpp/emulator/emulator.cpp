@@ -84,6 +84,9 @@ Emulator::Emulator(const std::filesystem::path& file)
       _inputs.push_back({b.at("input"), b.at("range").at(0), b.at("range").at(1),
                          b.at("scale") == "log"});
     _noise_mm = e.at("noise_mm");
+    e.at("t_ms").get_to(_t_ms);
+    e.at("profile_t_ms").get_to(_profile_t_ms);
+    e.at("profile_x_mm").get_to(_profile_x_mm);
     const auto& c = e.at("curves");
     for (const auto& b : c.at("blocks"))
       _blocks.emplace_back(b.at(0).get<std::string>(), b.at(1).get<std::size_t>());
@@ -92,6 +95,16 @@ Emulator::Emulator(const std::filesystem::path& file)
     c.at("truncation").get_to(_truncation);
     for (const auto& g : c.at("components"))
       _components.push_back(read_process(g));
+    std::size_t outputs = 0;
+    for (const auto& [name, size] : _blocks)
+      outputs += size;
+    if (_mean.size() != outputs || _truncation.size() != outputs || _basis.size() != outputs
+        || _blocks.at(0).second != _t_ms.size()
+        || _blocks.back().second != _profile_t_ms.size() * _profile_x_mm.size())
+      throw std::invalid_argument("its curves' blocks, clock, mean and basis disagree in size");
+    for (const auto& row : _basis)
+      if (row.size() != _components.size())
+        throw std::invalid_argument("its basis has not one column per component");
     for (const auto& [key, g] : e.at("readings").items())
       _readings.emplace(key, read_process(g));
   }

@@ -71,6 +71,12 @@ public:
   /// The curves' blocks and their sizes, in order.
   const std::vector<std::pair<std::string, std::size_t>>& blocks() const { return _blocks; }
 
+  /// The curves' frame clock [ms]; the profiles' frames [ms] and places [mm]
+  /// (the profiles block: per frame, per place).
+  const std::vector<double>& t_ms() const { return _t_ms; }
+  const std::vector<double>& profile_t_ms() const { return _profile_t_ms; }
+  const std::vector<double>& profile_x_mm() const { return _profile_x_mm; }
+
 private:
   /// x on the unit cube, and d(unit)/dx per input.
   std::pair<std::vector<double>, std::vector<double>> unit(const std::vector<double>& x) const;
@@ -78,6 +84,7 @@ private:
   std::vector<Input> _inputs;
   double _noise_mm = 0.02;
   std::vector<std::pair<std::string, std::size_t>> _blocks;
+  std::vector<double> _t_ms, _profile_t_ms, _profile_x_mm;
   std::vector<double> _mean, _truncation;
   std::vector<std::vector<double>> _basis; ///< (outputs, components)
   std::vector<Process> _components;

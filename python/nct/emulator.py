@@ -93,6 +93,14 @@ class Emulator:
     def __init__(self, data, share, seed, restarts):
         self.box = Box(data["box"])
         self.X = self.box.to_unit(np.array([r["inputs"] for r in data["runs"]]))
+        # Where the outputs are: every run on the same frame clock and profiles.
+        first = data["runs"][0]
+        for r in data["runs"]:
+            if not (np.allclose(r["t_ms"], first["t_ms"], rtol=0, atol=1e-9)
+                    and np.allclose(r["profile_t_ms"], first["profile_t_ms"], rtol=0, atol=1e-9)):
+                raise ValueError(f"{r['case']}: its frames are not the first run's")
+        self.t_ms, self.profile_t_ms = list(first["t_ms"]), list(first["profile_t_ms"])
+        self.profile_x_mm = list(data["profile_x_mm"])
         self.sizes = [training.arrays(data, b).shape[1] for b in CURVES]
         Y = _curves(data)
         self.mean = Y.mean(axis=0)
@@ -145,7 +153,8 @@ def _export_gp(gp, X):
 def export(em, path):
     """The emulator as JSON: everything its predictions need (Exported, and
     the C++ evaluation)."""
-    out = {"format": "nct-emulator-1", "noise_mm": NOISE_MM,
+    out = {"format": "nct-emulator-1", "noise_mm": NOISE_MM, "t_ms": em.t_ms,
+           "profile_t_ms": em.profile_t_ms, "profile_x_mm": em.profile_x_mm,
            "box": [{"input": n, "range": [float(lo), float(hi)], "scale": "log" if g else "linear"}
                    for n, lo, hi, g in zip(em.box.names, em.box.low, em.box.high, em.box.log)],
            "curves": {"blocks": [[b, n] for b, n in zip(CURVES, em.sizes)], "mean": em.mean.tolist(),

@@ -29,7 +29,8 @@ def model(x):
     readings = {k: None for k in training.READINGS + ["iop_max_mmHg"]}
     readings["deformation_amplitude_mm"] = depth
     readings["hc_time_ms"] = 10 + 2 * (c10 - 0.06) / 0.06 - 0.01 * iop
-    return {"t_ms": T.tolist(), "apex_mm": apex.tolist(), "whole_eye_mm": whole.tolist(),
+    return {"t_ms": T.tolist(), "profile_t_ms": [5.0, 10.0, 15.0],
+            "apex_mm": apex.tolist(), "whole_eye_mm": whole.tolist(),
             "profiles_mm": profiles, "readings": readings}
 
 
@@ -38,7 +39,8 @@ def data_at(points):
            for f in BOX]
     runs = [{"case": f"case-{i:03d}", "inputs": list(map(float, x)), **model(x)}
             for i, x in enumerate(points, 1)]
-    return {"inputs": [f.label for f in BOX], "box": box, "runs": runs}
+    return {"inputs": [f.label for f in BOX], "box": box, "profile_x_mm": [-3, -2, -1, 0, 1, 2, 3],
+            "runs": runs}
 
 
 def quiet_train(data):
