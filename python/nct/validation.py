@@ -74,6 +74,46 @@ def validate(em, held):
     return report
 
 
+def size_curve(data, held, sizes, share=0.999, seed=1):
+    """How the held-out error falls with the training size: an emulator
+    trained on the first n runs of `data` for each n in `sizes`, each
+    validated on `held`. Rows: n, apex RMS [um], profiles RMS [um], the
+    share of curve errors within +-2."""
+    rows = []
+    for n in sizes:
+        part = dict(data, runs=data["runs"][:n])
+        report = validate(emulator.train(part, share=share, seed=seed), held)
+        rows.append({"runs": n, "apex_rms_um": report["apex_rms_um"],
+                     "profiles_rms_um": report["profiles_rms_um"],
+                     "curves_within_2": report["curves_within_2"]})
+    return rows
+
+
+def plot_size_curve(rows, path):
+    """The size curve on log-log axes against the device's noise."""
+    import matplotlib
+    import matplotlib.ticker
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    n = [r["runs"] for r in rows]
+    fig, ax = plt.subplots(figsize=(5, 3.5))
+    ax.loglog(n, [r["apex_rms_um"] for r in rows], "o-", label="apex curve")
+    ax.loglog(n, [r["profiles_rms_um"] for r in rows], "s-", label="profiles")
+    ax.axhline(20, color="grey", ls="--", label="device noise (20 um)")
+    ax.axhline(10, color="grey", ls=":", label="target (10 um)")
+    ax.set_xticks(n)
+    ax.xaxis.set_major_formatter(matplotlib.ticker.ScalarFormatter())
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    ax.set_xlabel("training runs")
+    ax.set_ylabel("held-out RMS error [um]")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+
+
 def markdown(report):
     """The report as Markdown tables."""
     head = (f"{report['runs']} held-out runs, an emulator of {report['train_runs']} runs "

@@ -134,6 +134,14 @@ class Emulator(unittest.TestCase):
         self.assertGreater(m["range"][1], 12)
         self.assertIn("| apex curve |", validation.markdown(r))
 
+    def test_error_falls_with_training_size(self):
+        held = design.to_box(design.maximin_hypercube(3, 8, seed=9, candidates=50), BOX)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            rows = validation.size_curve(self.data, data_at(held), [8, 30])
+        self.assertEqual([r["runs"] for r in rows], [8, 30])
+        self.assertLess(rows[1]["apex_rms_um"], rows[0]["apex_rms_um"])
+
 
 if __name__ == "__main__":
     unittest.main()
