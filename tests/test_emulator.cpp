@@ -73,6 +73,51 @@ TEST(Emulator, MatchesScikitLearn)
   }
 }
 
+// The variance's gradient against central differences of the variance (to
+// 1e-3: the variance is c + noise - |w|^2, a difference of near-equal
+// numbers, so that its differences are good to some 1e-4 at best; a wrong
+// term is off by its whole size), and a functional's mean and variance
+// against the outputs' own.
+TEST(Emulator, VarianceGradientAndProjection)
+{
+  const nct::emulator::Emulator em(fixture() / "emulator.json");
+  const std::vector<double> x = {0.05, 14.0, 0.52};
+  const auto curves = em.curves(x);
+  for (std::size_t j = 0; j < x.size(); ++j)
+  {
+    const double h = 1e-3 * x[j]; // the variance cancels: c + noise - |w|^2
+    auto up = x, down = x;
+    up[j] += h, down[j] -= h;
+    const auto a = em.curves(up), b = em.curves(down);
+    double worst = 0, scale = 1e-30;
+    for (std::size_t o = 0; o < curves.size(); ++o)
+    {
+      const double fd = (a[o].variance - b[o].variance) / (2 * h);
+      worst = std::max(worst, std::abs(curves[o].variance_gradient[j] - fd));
+      scale = std::max(scale, std::abs(fd));
+    }
+    EXPECT_LT(worst / scale, 1e-3) << "input " << j;
+    const auto ra = em.reading("hc_time_ms", up), rb = em.reading("hc_time_ms", down);
+    const double fd = (ra.variance - rb.variance) / (2 * h);
+    EXPECT_NEAR(em.reading("hc_time_ms", x).variance_gradient[j], fd,
+                1e-3 * std::max(std::abs(fd), 1e-12)) << "input " << j;
+  }
+  // A single output, and half of two neighbours.
+  const std::size_t o = 7;
+  const auto p = em.project({{{o, 1.0}}, {{o, 0.5}, {o + 1, 0.5}}}, x);
+  double variance = p.truncation[0];
+  for (std::size_t c = 0; c < p.components.size(); ++c)
+    variance += p.factor[0][c] * p.factor[0][c] * p.components[c].variance;
+  EXPECT_NEAR(p.mean[0], curves[o].mean, 1e-12);
+  EXPECT_NEAR(variance, curves[o].variance, 1e-15);
+  EXPECT_NEAR(p.mean[1], 0.5 * (curves[o].mean + curves[o + 1].mean), 1e-12);
+  for (std::size_t j = 0; j < x.size(); ++j)
+    EXPECT_NEAR(p.gradient[0][j], curves[o].gradient[j], 1e-12 * std::abs(curves[o].gradient[j]));
+  EXPECT_EQ(em.inputs()[1].keys, (std::vector<std::string>{"inflate.iop"}));
+  const auto [lo, hi] = em.reading_range("hc_time_ms");
+  EXPECT_LT(lo, hi);
+}
+
 TEST(Emulator, RefusesWhatItCannotAnswer)
 {
   const nct::emulator::Emulator em(fixture() / "emulator.json");

@@ -27,13 +27,15 @@ Process read_process(const nlohmann::json& g)
   return p;
 }
 
-/// A process at the unit-cube point u: mean, variance, d(mean)/du.
+/// A process at the unit-cube point u: mean, variance and their
+/// gradients with respect to u.
 Value evaluate(const Process& p, const std::vector<double>& u)
 {
   const std::size_t n = p.X.size(), d = u.size();
-  std::vector<double> k(n);
+  std::vector<double> k(n), dk(n * d); // k*, and dk*_i/du_j at i * d + j
   Value v;
   v.gradient.assign(d, 0.0);
+  v.variance_gradient.assign(d, 0.0);
   double sum = 0;
   for (std::size_t i = 0; i < n; ++i)
   {
@@ -47,25 +49,49 @@ Value evaluate(const Process& p, const std::vector<double>& u)
     k[i] = p.constant * (1 + std::sqrt(5.0) * r + 5 * r2 / 3) * e;
     sum += k[i] * p.alpha[i];
     // dk/du_j = -(5/3) c (1 + sqrt5 r) exp(-sqrt5 r) (u_j - X_ij) / l_j^2
-    const double f = -(5.0 / 3.0) * p.constant * (1 + std::sqrt(5.0) * r) * e * p.alpha[i];
+    const double f = -(5.0 / 3.0) * p.constant * (1 + std::sqrt(5.0) * r) * e;
     for (std::size_t j = 0; j < d; ++j)
-      v.gradient[j] += f * (u[j] - p.X[i][j]) / (p.length_scale[j] * p.length_scale[j]);
+    {
+      dk[i * d + j] = f * (u[j] - p.X[i][j]) / (p.length_scale[j] * p.length_scale[j]);
+      v.gradient[j] += dk[i * d + j] * p.alpha[i];
+    }
   }
   v.mean = p.y_mean + p.y_std * sum;
   for (auto& g : v.gradient)
     g *= p.y_std;
-  // v = L^-1 k by forward substitution.
-  double vv = 0;
+  // w = L^-1 k by forward substitution; var = c + noise - |w|^2.
+  std::vector<double> w(n);
+  double ww = 0;
   for (std::size_t i = 0; i < n; ++i)
   {
     double s = k[i];
     for (std::size_t m = 0; m < i; ++m)
-      s -= p.L[i][m] * k[m];
-    k[i] = s / p.L[i][i];
-    vv += k[i] * k[i];
+      s -= p.L[i][m] * w[m];
+    w[i] = s / p.L[i][i];
+    ww += w[i] * w[i];
   }
-  v.variance = p.y_std * p.y_std * std::max(p.constant + p.noise - vv, 0.0);
+  const double y2 = p.y_std * p.y_std, raw = p.constant + p.noise - ww;
+  v.variance = y2 * std::max(raw, 0.0);
+  // d(var)/du = -2 y_std^2 (L^-T w)^T dk/du, by back substitution.
+  for (std::size_t i = n; i-- > 0;)
+  {
+    double s = w[i];
+    for (std::size_t m = i + 1; m < n; ++m)
+      s -= p.L[m][i] * w[m];
+    w[i] = s / p.L[i][i];
+  }
+  if (raw > 0)
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < d; ++j)
+        v.variance_gradient[j] -= 2 * y2 * w[i] * dk[i * d + j];
   return v;
+}
+
+/// From gradients with respect to the unit cube to the natural inputs.
+void chain(Value& v, const std::vector<double>& du)
+{
+  for (std::size_t j = 0; j < du.size(); ++j)
+    v.gradient[j] *= du[j], v.variance_gradient[j] *= du[j];
 }
 
 } // namespace
@@ -82,7 +108,7 @@ Emulator::Emulator(const std::filesystem::path& file)
       throw std::invalid_argument("format is not nct-emulator-1");
     for (const auto& b : e.at("box"))
       _inputs.push_back({b.at("input"), b.at("range").at(0), b.at("range").at(1),
-                         b.at("scale") == "log"});
+                         b.at("scale") == "log", b.at("keys")});
     _noise_mm = e.at("noise_mm");
     e.at("t_ms").get_to(_t_ms);
     e.at("profile_t_ms").get_to(_profile_t_ms);
@@ -106,7 +132,10 @@ Emulator::Emulator(const std::filesystem::path& file)
       if (row.size() != _components.size())
         throw std::invalid_argument("its basis has not one column per component");
     for (const auto& [key, g] : e.at("readings").items())
+    {
       _readings.emplace(key, read_process(g));
+      _reading_ranges[key] = {g.at("range").at(0), g.at("range").at(1)};
+    }
   }
   catch (const nlohmann::json::exception& x)
   {
@@ -144,7 +173,10 @@ std::vector<Value> Emulator::curves(const std::vector<double>& x) const
   const auto [u, du] = unit(x);
   std::vector<Value> w;
   for (const Process& p : _components)
+  {
     w.push_back(evaluate(p, u));
+    chain(w.back(), du);
+  }
   std::vector<Value> out(_mean.size());
   for (std::size_t o = 0; o < _mean.size(); ++o)
   {
@@ -152,20 +184,69 @@ std::vector<Value> Emulator::curves(const std::vector<double>& x) const
     v.mean = _mean[o];
     v.variance = _truncation[o];
     v.gradient.assign(x.size(), 0.0);
+    v.variance_gradient.assign(x.size(), 0.0);
     for (std::size_t c = 0; c < w.size(); ++c)
     {
       const double b = _basis[o][c];
       v.mean += b * w[c].mean;
       v.variance += b * b * w[c].variance;
       for (std::size_t j = 0; j < x.size(); ++j)
+      {
         v.gradient[j] += b * w[c].gradient[j];
+        v.variance_gradient[j] += b * b * w[c].variance_gradient[j];
+      }
     }
     v.mean *= _noise_mm;
     v.variance *= _noise_mm * _noise_mm;
     for (std::size_t j = 0; j < x.size(); ++j)
-      v.gradient[j] *= _noise_mm * du[j];
+    {
+      v.gradient[j] *= _noise_mm;
+      v.variance_gradient[j] *= _noise_mm * _noise_mm;
+    }
   }
   return out;
+}
+
+Projection Emulator::project(const std::vector<Functional>& functionals,
+                             const std::vector<double>& x) const
+{
+  const auto [u, du] = unit(x);
+  Projection p;
+  for (const Process& g : _components)
+  {
+    p.components.push_back(evaluate(g, u));
+    chain(p.components.back(), du);
+  }
+  const std::size_t k = _components.size();
+  for (const Functional& f : functionals)
+  {
+    double mean = 0, truncation = 0;
+    std::vector<double> factor(k, 0.0), gradient(x.size(), 0.0);
+    for (const auto& [o, a] : f)
+    {
+      if (o >= _mean.size())
+        throw std::out_of_range(io::format("output %zu of an emulator of %zu", o, _mean.size()));
+      mean += a * _mean[o];
+      truncation += a * a * _truncation[o];
+      for (std::size_t c = 0; c < k; ++c)
+        factor[c] += a * _basis[o][c];
+    }
+    for (std::size_t c = 0; c < k; ++c)
+    {
+      mean += factor[c] * p.components[c].mean;
+      for (std::size_t j = 0; j < x.size(); ++j)
+        gradient[j] += factor[c] * p.components[c].gradient[j];
+    }
+    for (auto& b : factor)
+      b *= _noise_mm;
+    for (auto& g : gradient)
+      g *= _noise_mm;
+    p.mean.push_back(mean * _noise_mm);
+    p.gradient.push_back(gradient);
+    p.factor.push_back(factor);
+    p.truncation.push_back(truncation * _noise_mm * _noise_mm);
+  }
+  return p;
 }
 
 Value Emulator::reading(const std::string& key, const std::vector<double>& x) const
@@ -175,9 +256,16 @@ Value Emulator::reading(const std::string& key, const std::vector<double>& x) co
     throw std::out_of_range("the emulator has no reading '" + key + "'");
   const auto [u, du] = unit(x);
   Value v = evaluate(at->second, u);
-  for (std::size_t j = 0; j < x.size(); ++j)
-    v.gradient[j] *= du[j];
+  chain(v, du);
   return v;
+}
+
+std::pair<double, double> Emulator::reading_range(const std::string& key) const
+{
+  const auto at = _reading_ranges.find(key);
+  if (at == _reading_ranges.end())
+    throw std::out_of_range("the emulator has no reading '" + key + "'");
+  return at->second;
 }
 
 std::vector<std::string> Emulator::readings() const

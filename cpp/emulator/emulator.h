@@ -30,20 +30,39 @@ struct Process
   std::vector<double> length_scale;   ///< per input
 };
 
-/// A value's mean, variance and gradient with respect to the inputs
-/// (natural units).
+/// A value's mean, variance and their gradients with respect to the
+/// inputs (natural units).
 struct Value
 {
   double mean = 0, variance = 0;
-  std::vector<double> gradient;
+  std::vector<double> gradient, variance_gradient;
 };
 
-/// An input's range and scale.
+/// An input's range and scale, and the scene keys it sets.
 struct Input
 {
   std::string name;
   double low, high;
   bool log;
+  std::vector<std::string> keys;
+};
+
+/// A linear functional of the curves' outputs: (output index, weight) pairs
+/// (an interpolation between frames, say).
+using Functional = std::vector<std::pair<std::size_t, double>>;
+
+/// Linear functionals of the curves at a point, with their joint
+/// distribution: covariance = factor diag(components' variances) factor^T
+/// + diag(truncation).
+struct Projection
+{
+  std::vector<double> mean;                  ///< per functional [mm]
+  std::vector<std::vector<double>> gradient; ///< per functional, d(mean)/d(input)
+  std::vector<std::vector<double>> factor;   ///< per functional, per component [mm]
+  std::vector<double> truncation;            ///< per functional [mm^2]
+  /// Each component's weight: variance and its gradient (in the factor's
+  /// units: the covariance's term is factor v factor^T).
+  std::vector<Value> components;
 };
 
 /// An exported emulator (python/nct/emulator.py, format "nct-emulator-1").
@@ -61,12 +80,23 @@ public:
   /// std::out_of_range naming an input outside the box.
   std::vector<Value> curves(const std::vector<double>& x) const;
 
+  /// Linear functionals of the curves' outputs at x, with their
+  /// covariance's factors; throws std::out_of_range as curves().
+  Projection project(const std::vector<Functional>& functionals,
+                     const std::vector<double>& x) const;
+
   /// A reading's value (its key in summary.json); throws std::out_of_range
   /// for an input outside the box or a reading the emulator lacks.
   Value reading(const std::string& key, const std::vector<double>& x) const;
 
   /// The readings the emulator holds.
   std::vector<std::string> readings() const;
+
+  /// The range a reading spanned over the training runs.
+  std::pair<double, double> reading_range(const std::string& key) const;
+
+  /// Throws std::out_of_range naming the first input of x outside the box.
+  void check_inside(const std::vector<double>& x) const { unit(x); }
 
   /// The curves' blocks and their sizes, in order.
   const std::vector<std::pair<std::string, std::size_t>>& blocks() const { return _blocks; }
@@ -89,6 +119,7 @@ private:
   std::vector<std::vector<double>> _basis; ///< (outputs, components)
   std::vector<Process> _components;
   std::map<std::string, Process> _readings;
+  std::map<std::string, std::pair<double, double>> _reading_ranges;
 };
 
 } // namespace nct::emulator

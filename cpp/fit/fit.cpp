@@ -11,9 +11,11 @@
 #include <glog/logging.h>
 
 #include "fit/cost.h"
+#include "fit/emulated.h"
 #include "fit/forward.h"
 #include "fit/readings.h"
 #include "fit/report.h"
+#include "fit/solver.h"
 #include "io/format.h"
 #include "io/output.h"
 #include "jobs/jobs.h"
@@ -60,41 +62,6 @@ void print_plan(const Fit& fit, const Options& o, const Forward& forward)
             << " forward runs on disk)" << std::endl;
 }
 
-/// Levenberg-Marquardt with the fit's limits, Ceres' own log silent.
-ceres::Solver::Options solver_options(const Fit& fit)
-{
-  ceres::Solver::Options options;
-  options.minimizer_type = ceres::TRUST_REGION;
-  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = fit.max_iterations;
-  options.function_tolerance = fit.tolerance;
-  options.parameter_tolerance = fit.tolerance;
-  options.gradient_tolerance = 1e-10;
-  options.num_threads = 1;
-  options.logging_type = ceres::SILENT;
-  options.update_state_every_iteration = true;
-  return options;
-}
-
-/// The covariance of the fitted variables at theta (row by row); NaN
-/// everywhere when the Jacobian is rank-deficient.
-std::vector<double> covariance_at(ceres::Problem& problem, double* theta, std::size_t n,
-                                  bool& identifiable)
-{
-  std::vector<double> covariance(n * n, nan);
-  ceres::Covariance::Options options;
-  options.algorithm_type = ceres::DENSE_SVD;
-  options.num_threads = 1;
-  ceres::Covariance cov(options);
-  identifiable
-      = cov.Compute(std::vector<std::pair<const double*, const double*>>{{theta, theta}}, &problem)
-        && cov.GetCovarianceBlock(theta, theta, covariance.data());
-  if (!identifiable)
-    std::fill(covariance.begin(), covariance.end(), nan);
-  return covariance;
-}
-
 /// The answer at the final point theta: residuals, covariance, the run.
 Outcome outcome_at(const Fit& fit, ceres::Problem& problem, const Cost& cost,
                    std::vector<double>& theta)
@@ -115,6 +82,8 @@ Outcome outcome_at(const Fit& fit, ceres::Problem& problem, const Cost& cost,
 
 int run(const Fit& fit, const Options& o)
 {
+  if (fit.emulator)
+    return run_emulated(fit, o);
   const auto start = std::chrono::steady_clock::now();
   fs::create_directories(o.out);
   if (fs::exists(o.out / "fit.toml")
@@ -154,7 +123,7 @@ int run(const Fit& fit, const Options& o)
     problem.SetParameterUpperBound(theta.data(), int(i), p.variable(p.upper));
   }
   ceres::Solver::Options options = solver_options(fit);
-  Progress progress(fit, forward, cost, theta.data(), o.out);
+  Progress progress(fit, &forward, &cost, theta.data(), o.out);
   options.callbacks.push_back(&progress);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);

@@ -8,10 +8,12 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "emulator/emulator.h"
 #include "jobs/jobs.h"
 
 namespace nct::fit
@@ -91,6 +93,18 @@ struct Fit
   double step = 0.01;            ///< finite-difference step in the fitted variable (relative)
   bool central = false;          ///< central differences (2 runs per parameter)
   double tolerance = 1e-4;       ///< stop when the cost or the parameters change less
+
+  /// An emulator standing in for the forward runs ([fit] emulator); null:
+  /// every evaluation is a forward run.
+  std::shared_ptr<const emulator::Emulator> emulator;
+  std::filesystem::path emulator_file;
+  /// Per emulator input: the parameter it is (its index), or -1 and its value.
+  std::vector<std::pair<int, double>> emulator_inputs;
+  std::string posterior = "auto"; ///< "auto" (MCMC when a |correlation| > 0.9), "mcmc", "laplace"
+  int walkers = 32;               ///< the MCMC's ensemble
+  int steps = 1500;               ///< its steps, the first third burn-in
+  int seed = 1;                   ///< its generator's seed
+  bool confirm = true;            ///< an emulator fit's confirming forward run
 
   /// A fit file with a [cohort] table: its patients (the fit is each one's).
   std::optional<Cohort> cohort;

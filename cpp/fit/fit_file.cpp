@@ -7,6 +7,7 @@
 
 #include "biomarkers/registry.h"
 #include "fit/fit.h"
+#include "fit/emulated.h"
 #include "jobs/jobs.h"
 #include "jobs/launcher_input.h"
 #include "io/csv.h"
@@ -640,12 +641,45 @@ void apply_patient(Fit& fit, const Patient& patient)
   }
 }
 
+/// The keys of a fit on an emulator: the file, the posterior's sampler,
+/// the confirming run (the file's content is checked by attach_emulator).
+void read_emulator_keys(const toml::table& ft, Fit& fit, io::KeyErrors& errors)
+{
+  const fs::path& file = fit.file;
+  errors.attempt([&] {
+    if (ft["emulator"])
+      fit.emulator_file = io::file_path(file, "fit.emulator", ft["emulator"].node(),
+                                        "emulator file (python/nct/emulator.py's export)");
+  });
+  errors.attempt([&] {
+    fit.posterior = ft["posterior"].value_or(std::string("auto"));
+    if (fit.posterior != "auto" && fit.posterior != "mcmc" && fit.posterior != "laplace")
+      throw key_error(file, "fit.posterior", "\"auto\" (sampled where two parameters correlate "
+                                             "beyond 0.9), \"mcmc\" or \"laplace\", got \""
+                                                 + fit.posterior + "\"");
+  });
+  errors.attempt([&] { fit.walkers = io::integer(ft, "fit", "mcmc_walkers", 32, 8, 1000, file); });
+  errors.attempt([&] { fit.steps = io::integer(ft, "fit", "mcmc_steps", 1500, 30, 1000000, file); });
+  errors.attempt([&] { fit.seed = io::integer(ft, "fit", "seed", 1, 0, 2147483647, file); });
+  errors.attempt([&] {
+    if (auto* c = ft["confirm"].node(); c && !c->is_boolean())
+      throw key_error(file, "fit.confirm", "true (a forward run at the answer) or false");
+    fit.confirm = ft["confirm"].value_or(true);
+  });
+  if (fit.emulator_file.empty())
+    for (const char* k : {"posterior", "mcmc_walkers", "mcmc_steps", "seed", "confirm"})
+      if (ft.contains(k))
+        errors.add(key_error(file, std::string("fit.") + k, "only for a fit on an emulator "
+                                                            "(fit.emulator)").what());
+}
+
 /// The keys of the [fit] table `ft`; whether its scene and overrides read.
 bool read_fit_table(const toml::table& ft, Fit& fit, io::KeyErrors& errors)
 {
   const fs::path& file = fit.file;
   std::set<std::string> known = {"scene", "set", "ranks", "jobs", "mpiexec", "max_iterations",
-                                 "step", "differences", "tolerance"};
+                                 "step", "differences", "tolerance", "emulator", "posterior",
+                                 "mcmc_walkers", "mcmc_steps", "seed", "confirm"};
   known.insert(jobs::launcher_keys().begin(), jobs::launcher_keys().end());
   io::refuse_unknown_keys(ft, known, file, "fit.", "[fit]", errors);
   bool scene_read = errors.attempt(
@@ -680,6 +714,7 @@ bool read_fit_table(const toml::table& ft, Fit& fit, io::KeyErrors& errors)
                                                "\"central\" (two), got \"" + differences + "\"");
     fit.central = differences == "central";
   });
+  read_emulator_keys(ft, fit, errors);
   return scene_read;
 }
 
@@ -767,6 +802,8 @@ Fit load_one(const toml::table& t, const fs::path& file, const Patient* patient)
 
   if (patient && errors.empty())
     errors.attempt([&] { apply_patient(fit, *patient); });
+  if (!fit.emulator_file.empty() && errors.empty())
+    errors.attempt([&] { attach_emulator(fit, scene::Scene::load(fit.scene, fit.sets)); });
   if (errors.empty() && fit.residuals() < fit.parameters.size())
     errors.add(key_error(file, "observation", format("%zu measured values (with priors) cannot "
                                                      "determine %zu parameters",

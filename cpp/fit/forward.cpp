@@ -31,13 +31,13 @@ Forward::Forward(const Fit& fit, const Options& options, jobs::Launcher launcher
   _reusable = int(_finished.size());
 }
 
-std::vector<std::string> Forward::sets(const std::vector<double>& theta) const
+std::vector<std::string> forward_sets(const Fit& fit, const std::vector<double>& theta)
 {
   std::vector<std::string> out = {"output.fields=false"};
-  out.insert(out.end(), _fit.sets.begin(), _fit.sets.end());
+  out.insert(out.end(), fit.sets.begin(), fit.sets.end());
   for (std::size_t i = 0; i < theta.size(); ++i)
-    for (auto& k : _fit.parameters[i].keys)
-      out.push_back(k + "=" + io::literal(_fit.parameters[i].value(theta[i])));
+    for (auto& k : fit.parameters[i].keys)
+      out.push_back(k + "=" + io::literal(fit.parameters[i].value(theta[i])));
   return out;
 }
 

@@ -16,6 +16,10 @@
 namespace nct::fit
 {
 
+/// The overrides of a forward run at the fitted variables theta: the
+/// fit's, then each parameter's keys.
+std::vector<std::string> forward_sets(const Fit& fit, const std::vector<double>& theta);
+
 /// The forward runs of one fit.
 class Forward
 {
@@ -25,7 +29,10 @@ public:
   Forward(const Fit& fit, const Options& options, jobs::Launcher launcher);
 
   /// The overrides of a forward run at the fitted variables theta.
-  std::vector<std::string> sets(const std::vector<double>& theta) const;
+  std::vector<std::string> sets(const std::vector<double>& theta) const
+  {
+    return forward_sets(_fit, theta);
+  }
 
   /// The run folders at these points (run the missing ones, jobs at a
   /// time); an empty path for a run that failed. Throws Interrupted.

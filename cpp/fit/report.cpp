@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 using io::format;
 using io::nan;
 
-Progress::Progress(const Fit& fit, const Forward& forward, const Cost& cost, const double* theta,
+Progress::Progress(const Fit& fit, const Forward* forward, const Cost* cost, const double* theta,
                    const fs::path& out)
     : _fit(fit), _forward(forward), _cost(cost), _theta(theta), _out(out),
       _start(std::chrono::steady_clock::now())
@@ -43,15 +43,21 @@ ceres::CallbackReturnType Progress::operator()(const ceres::IterationSummary& s)
     line += format("%s %.6g  ", _fit.parameters[i].label.c_str(), v);
     _csv << "," << io::literal(v);
   }
-  _csv << "," << _forward.total() << "," << format("%.1f", wall) << "\n";
-  line += format("step %.2e %s  runs %d (%d reused)  %.0f s", s.step_norm,
-                 s.iteration == 0 ? "start" : s.step_is_successful ? "taken" : "refused",
-                 _forward.total(), _forward.reusable(), wall);
+  const int runs = _forward ? _forward->total() : 0;
+  _csv << "," << runs << "," << format("%.3f", wall) << "\n";
+  line += format("step %.2e %s  ", s.step_norm,
+                 s.iteration == 0 ? "start" : s.step_is_successful ? "taken" : "refused");
+  if (_forward)
+    line += format("runs %d (%d reused)  ", runs, _forward->reusable());
+  line += format(wall < 10 ? "%.2f s" : "%.0f s", wall);
   // What the Jacobian's finite differences fell back to since the last line.
-  for (const auto& note : _cost.notes)
-    line += "; " + note;
-  fallbacks.insert(fallbacks.end(), _cost.notes.begin(), _cost.notes.end());
-  _cost.notes.clear();
+  if (_cost)
+  {
+    for (const auto& note : _cost->notes)
+      line += "; " + note;
+    fallbacks.insert(fallbacks.end(), _cost->notes.begin(), _cost->notes.end());
+    _cost->notes.clear();
+  }
   std::cout << line << std::endl;
   io::write_atomic(_out / "iterations.csv", _csv.str());
   return ceres::SOLVER_CONTINUE;
@@ -68,10 +74,11 @@ nlohmann::json json_number(double x)
 
 /// Per parameter: start, value, standard error, 95 % interval, bounds,
 /// prior; warnings for one that ends at a bound.
-nlohmann::json describe_parameters(const Fit& fit, const std::vector<double>& theta,
-                                   const std::vector<double>& covariance,
+nlohmann::json describe_parameters(const Fit& fit, const Outcome& o,
                                    std::vector<std::string>& warnings)
 {
+  const std::vector<double>& theta = o.theta;
+  const std::vector<double>& covariance = o.covariance;
   const std::size_t n = fit.parameters.size();
   nlohmann::json parameters = nlohmann::json::array();
   for (std::size_t i = 0; i < n; ++i)
@@ -86,12 +93,18 @@ nlohmann::json describe_parameters(const Fit& fit, const std::vector<double>& th
     j["se"] = json_number(p.log ? v * se_theta : se_theta);
     j["ci95"] = {json_number(p.value(theta[i] - 1.959964 * se_theta)),
                  json_number(p.value(theta[i] + 1.959964 * se_theta))};
+    if (!o.intervals.empty()) // the posterior's samples
+    {
+      j["se"] = json_number(o.se[i]);
+      j["ci95"] = {json_number(o.intervals[i][0]), json_number(o.intervals[i][1])};
+    }
     const double span = p.variable(p.upper) - p.variable(p.lower);
     j["at_bound"] = std::min(theta[i] - p.variable(p.lower), p.variable(p.upper) - theta[i])
                     < 1e-6 * span;
     if (j["at_bound"])
       warnings.push_back(p.label + " ended at a bound: widen it, or the data push it there "
-                         "(its interval does not hold)");
+                         + (o.intervals.empty() ? "(its interval does not hold)"
+                                                : "(its interval is the posterior's, cut there)"));
     if (p.prior)
       j["prior"] = {{"mean", p.prior_mean}, {"sd", p.prior_sd}};
     parameters.push_back(j);
@@ -174,7 +187,9 @@ void print_answer(const nlohmann::json& out, const fs::path& folder)
   std::cout << "\nfit: " << out["status"].get<std::string>() << " after "
             << out["iterations"].get<int>() << " iterations, " << out["forward_runs"].get<int>()
             << " forward runs (" << out["forward_runs_reused"].get<int>() << " reused), "
-            << format("%.0f s; chi2 %.4g for %d dof", out["wall_s"].get<double>(),
+            << format(out["wall_s"].get<double>() < 10 ? "%.2f s; chi2 %.4g for %d dof"
+                                                       : "%.0f s; chi2 %.4g for %d dof",
+                      out["wall_s"].get<double>(),
                       out["chi2"].get<double>(), out["dof"].get<int>())
             << "\n";
   auto bound = [](const nlohmann::json& x)
@@ -210,24 +225,29 @@ nlohmann::json answer(const Fit& fit, const Outcome& o, std::string& csv)
   out["difference_fallbacks"] = o.fallbacks;
   out["forward_runs_reused"] = o.reused;
   out["cost"] = o.cost;
-  double chi2 = 0;
-  for (double x : o.residuals)
-    chi2 += x * x;
+  double chi2 = o.chi2;
+  if (std::isnan(chi2))
+  {
+    chi2 = 0;
+    for (double x : o.residuals)
+      chi2 += x * x;
+  }
   out["chi2"] = chi2;
   out["residuals"] = m;
   out["dof"] = int(m) - int(n);
   out["reduced_chi2"] = m > n ? chi2 / double(m - n) : nan;
-  out["parameters"] = describe_parameters(fit, o.theta, o.covariance, warnings);
+  out["parameters"] = describe_parameters(fit, o, warnings);
   out["correlation"] = correlation(fit, o.covariance, warnings);
   out["observations"] = describe_observations(fit, o.theta, o.residuals, o.model, csv);
   out["warnings"] = warnings;
-  out["best_run"] = fs::absolute(o.best_run).string();
+  out["best_run"] = o.best_run.empty() ? nlohmann::json() : nlohmann::json(fs::absolute(o.best_run).string());
   std::string command = "nct run " + fs::absolute(fit.scene).string();
   for (auto& s : o.sets)
     if (s != "output.fields=false")
       command += " --set " + s;
   out["command"] = command;
   out["wall_s"] = o.wall_s;
+  out.update(o.extra);
   return out;
 }
 

@@ -6,12 +6,15 @@
 #pragma once
 
 #include <chrono>
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <ceres/ceres.h>
+#include <nlohmann/json.hpp>
 
 #include "fit/cost.h"
 #include "fit/fit.h"
@@ -25,8 +28,9 @@ namespace nct::fit
 class Progress : public ceres::IterationCallback
 {
 public:
-  /// `theta`: the variables the solver updates; iterations.csv goes into `out`.
-  Progress(const Fit& fit, const Forward& forward, const Cost& cost, const double* theta,
+  /// `theta`: the variables the solver updates; iterations.csv goes into
+  /// `out`; `forward` and `cost` null for a fit without forward runs.
+  Progress(const Fit& fit, const Forward* forward, const Cost* cost, const double* theta,
            const std::filesystem::path& out);
 
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override;
@@ -36,8 +40,8 @@ public:
 
 private:
   const Fit& _fit;
-  const Forward& _forward;
-  const Cost& _cost;
+  const Forward* _forward;
+  const Cost* _cost;
   const double* _theta;
   std::filesystem::path _out;
   std::chrono::steady_clock::time_point _start;
@@ -62,6 +66,14 @@ struct Outcome
   int reused = 0;                 ///< of them, found on disk at the start
   std::vector<std::string> fallbacks; ///< what the finite differences fell back to
   double wall_s = 0;              ///< the fit's time so far
+  /// chi2 when the residuals are not independent (an emulator's
+  /// likelihood); NaN: the sum of the residuals' squares.
+  double chi2 = std::nan("");
+  /// 95 % intervals and SEs of the values from a posterior's samples;
+  /// empty: from the covariance.
+  std::vector<std::array<double, 2>> intervals;
+  std::vector<double> se;
+  nlohmann::json extra = nlohmann::json::object(); ///< merged into fit.json
 };
 
 /// The answer into `folder` (fit.json, observations.csv) and its summary

@@ -429,9 +429,12 @@ std::string cases_csv(const Study& s, const std::vector<Result>& results)
     out << ",variant";
   for (auto& f : s.factors)
     out << "," << f.label;
+  // The case's wall time closes each row unless a response already is it.
+  const bool wall_listed =
+      std::find(s.responses.begin(), s.responses.end(), "wall_s") != s.responses.end();
   for (auto& r : s.responses)
     out << "," << r;
-  out << ",wall_s\n";
+  out << (wall_listed ? "\n" : ",wall_s\n");
   for (std::size_t c = 0; c < s.cases.size(); ++c)
   {
     out << s.case_name(c) << "," << results[c].status;
@@ -441,7 +444,9 @@ std::string cases_csv(const Study& s, const std::vector<Result>& results)
       out << "," << number(s.factor_value(s.cases[c], i));
     for (double v : results[c].responses)
       out << "," << number(v);
-    out << "," << number(results[c].wall_s) << "\n";
+    if (!wall_listed)
+      out << "," << number(results[c].wall_s);
+    out << "\n";
   }
   return out.str();
 }

@@ -10,8 +10,9 @@ The inputs are mapped onto the unit cube (a log-scale input through its
 logarithm). The functional outputs, the apex and whole-eye curves on the
 frame clock and the profiles, are divided by the device's noise (0.02 mm
 a frame), centred, and reduced by their SVD to the components that hold
-`share` of the variance (Higdon et al. 2008); what the dropped components
-held is carried as a variance per output. A Gaussian process per kept
+`share` of the variance (Higdon et al. 2008); what the kept components
+miss is carried as a variance per output, measured leave-one-out (a
+run's residual after its projection onto the others' basis). A Gaussian process per kept
 component and per scalar reading (scikit-learn's GaussianProcessRegressor,
 Debian's python3-sklearn: a Matern 5/2 kernel with a length scale per
 input times a constant, plus a white-noise nugget for the solver's
@@ -51,6 +52,7 @@ class Box:
         self.low = np.array([b["range"][0] for b in box], float)
         self.high = np.array([b["range"][1] for b in box], float)
         self.log = np.array([b["scale"] == "log" for b in box])
+        self.keys = [list(b.get("keys", [])) for b in box]
 
     def _t(self, v):
         return np.where(self.log, np.log(np.where(self.log, v, 1.0)), v)
@@ -82,6 +84,21 @@ def _gp(X, y, seed, restarts):
     return gp.fit(X, y)
 
 
+def _truncation(Y, k):
+    """What k components leave of a run they were not computed from, per
+    output: each run's residual after its projection onto the basis of
+    the others (leave-one-out), squared and averaged. The residuals of the
+    training runs themselves understate it: the basis was fitted to them."""
+    residuals = []
+    for i in range(len(Y)):
+        others = np.delete(Y, i, axis=0)
+        mean = others.mean(axis=0)
+        basis = np.linalg.svd(others - mean, full_matrices=False)[2][:k].T
+        y = Y[i] - mean
+        residuals.append(y - basis @ (basis.T @ y))
+    return np.mean(np.square(residuals), axis=0)
+
+
 def _curves(data):
     """Every run's curves and profiles, one row each, in units of the noise."""
     return np.hstack([training.arrays(data, b) for b in CURVES]) / NOISE_MM
@@ -110,15 +127,15 @@ class Emulator:
         self.share = float(held[self.components - 1])
         self.basis = Vt[:self.components].T                      # (outputs, k)
         W = (Y - self.mean) @ self.basis
-        residual = Y - self.mean - W @ self.basis.T
-        self.truncation = np.mean(residual ** 2, axis=0)          # per output, noise units^2
+        self.truncation = _truncation(Y, self.components)         # per output, noise units^2
         self.weights = [_gp(self.X, W[:, j], seed, restarts) for j in range(self.components)]
-        self.readings = {}
+        self.readings, self.reading_ranges = {}, {}
         for key in training.READINGS + ["iop_max_mmHg"]:
             y = training.arrays(data, key)[:, 0]
             ok = np.isfinite(y)
             if ok.sum() >= len(y) // 2 and np.ptp(y[ok]) > 0:
                 self.readings[key] = (_gp(self.X[ok], y[ok], seed, restarts), ok)
+                self.reading_ranges[key] = [float(y[ok].min()), float(y[ok].max())]
 
     def predict(self, x):
         """Means and variances at x (natural units): curves (mm, the blocks
@@ -155,13 +172,16 @@ def export(em, path):
     the C++ evaluation)."""
     out = {"format": "nct-emulator-1", "noise_mm": NOISE_MM, "t_ms": em.t_ms,
            "profile_t_ms": em.profile_t_ms, "profile_x_mm": em.profile_x_mm,
-           "box": [{"input": n, "range": [float(lo), float(hi)], "scale": "log" if g else "linear"}
-                   for n, lo, hi, g in zip(em.box.names, em.box.low, em.box.high, em.box.log)],
+           "box": [{"input": n, "keys": k, "range": [float(lo), float(hi)],
+                    "scale": "log" if g else "linear"}
+                   for n, k, lo, hi, g in zip(em.box.names, em.box.keys, em.box.low, em.box.high,
+                                              em.box.log)],
            "curves": {"blocks": [[b, n] for b, n in zip(CURVES, em.sizes)], "mean": em.mean.tolist(),
                       "basis": em.basis.tolist(), "truncation": em.truncation.tolist(),
                       "share": em.share,
                       "components": [_export_gp(gp, em.X) for gp in em.weights]},
-           "readings": {key: _export_gp(gp, em.X[ok]) for key, (gp, ok) in em.readings.items()}}
+           "readings": {key: {**_export_gp(gp, em.X[ok]), "range": em.reading_ranges[key]}
+                        for key, (gp, ok) in em.readings.items()}}
     with open(path, "w") as f:
         json.dump(out, f)
 

@@ -68,8 +68,8 @@ def read_csv(path, numeric=True):
     for n, row in enumerate(lines[1:], start=2):
         if len(row) != len(header):
             raise ValueError(f"{path}:{n}: {len(row)} fields, the header has {len(header)}")
-    # A name twice in the header (cases.csv's wall_s: a response and the
-    # case's own) is one column, the last, as csv.DictReader reads it.
+    # A name twice in the header is one column, the last, as
+    # csv.DictReader reads it.
     cells = {name: [row[i] for row in lines[1:]] for i, name in enumerate(header)}
     convert = _column if numeric else (lambda c: np.array(c, dtype=str))
     names = list(dict.fromkeys(header))

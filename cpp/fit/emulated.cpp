@@ -1,0 +1,793 @@
+// A fit on an emulator (cpp/fit/emulated.h).
+#include "fit/emulated.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <random>
+#include <set>
+#include <sstream>
+
+#include <ceres/ceres.h>
+#include <glog/logging.h>
+#include <nlohmann/json.hpp>
+
+#include "fit/forward.h"
+#include "fit/mcmc.h"
+#include "fit/readings.h"
+#include "fit/report.h"
+#include "fit/solver.h"
+#include "io/format.h"
+#include "io/output.h"
+#include "io/toml_input.h"
+#include "jobs/jobs.h"
+#include "jobs/launcher_input.h"
+#include "scene/scene.h"
+
+namespace nct::fit
+{
+namespace fs = std::filesystem;
+using io::format;
+using io::nan;
+
+namespace
+{
+
+/// The emulator's curve block holding an observation's quantity.
+std::string block_of(const Observation& o)
+{
+  if (o.kind == Kind::curve)
+    return o.quantity == "apex_displacement_mm" ? "apex_mm"
+           : o.quantity == "whole_eye_motion_mm" ? "whole_eye_mm"
+                                                  : "";
+  return o.quantity == "anterior" && o.relative ? "profiles_mm" : "";
+}
+
+/// Where a block starts among the curves' outputs.
+std::size_t offset_of(const emulator::Emulator& e, const std::string& block)
+{
+  std::size_t at = 0;
+  for (const auto& [name, size] : e.blocks())
+  {
+    if (name == block)
+      return at;
+    at += size;
+  }
+  throw std::out_of_range("the emulator has no block " + block);
+}
+
+/// The linear functional of an observation's i-th point: the curve
+/// between the frames around t, or the profile at its frame and place;
+/// an empty one when the emulator does not hold it.
+emulator::Functional functional(const emulator::Emulator& e, const Observation& o, std::size_t i)
+{
+  const std::size_t start = offset_of(e, block_of(o));
+  if (o.kind == Kind::curve)
+  {
+    const auto& t = e.t_ms();
+    const double at = o.t[i];
+    if (at < t.front() - 1e-3 || at > t.back() + 1e-3)
+      return {};
+    const auto hi = std::lower_bound(t.begin(), t.end(), std::clamp(at, t.front(), t.back()));
+    const std::size_t j = std::size_t(hi - t.begin());
+    if (j == 0)
+      return {{start, 1.0}};
+    const double w = std::clamp((at - t[j - 1]) / (t[j] - t[j - 1]), 0.0, 1.0);
+    return {{start + j - 1, 1 - w}, {start + j, w}};
+  }
+  // A profile point: at the emulator's frame within half a frame of t, at its place x.
+  const auto& ft = e.profile_t_ms();
+  const auto& fx = e.profile_x_mm();
+  const double half_frame = 0.5 * (e.t_ms().at(1) - e.t_ms().at(0));
+  for (std::size_t f = 0; f < ft.size(); ++f)
+    for (std::size_t p = 0; p < fx.size(); ++p)
+      if (std::abs(o.t[i] - ft[f]) <= half_frame && std::abs(o.x[i] - fx[p]) <= 1e-3)
+        return {{start + f * fx.size() + p, 1.0}};
+  return {};
+}
+
+std::string join(const std::vector<std::string>& v, const std::string& between)
+{
+  std::string s;
+  for (const auto& x : v)
+    s += (s.empty() ? "" : between) + x;
+  return s;
+}
+
+std::string list(const std::vector<double>& v)
+{
+  std::string s;
+  for (double x : v)
+    s += (s.empty() ? "" : ", ") + format("%g", x);
+  return s;
+}
+
+} // namespace
+
+void attach_emulator(Fit& fit, const scene::Scene& scene)
+{
+  const std::string file = fit.file.string() + ": ";
+  try
+  {
+    fit.emulator = std::make_shared<const emulator::Emulator>(fit.emulator_file);
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw io::key_error(fit.file, "fit.emulator", e.what());
+  }
+  const emulator::Emulator& em = *fit.emulator;
+  auto box = [](const emulator::Input& in) { return format("[%g, %g]", in.low, in.high); };
+  fit.emulator_inputs.clear();
+  std::set<std::size_t> used;
+  for (const emulator::Input& in : em.inputs())
+  {
+    const std::set<std::string> keys(in.keys.begin(), in.keys.end());
+    int index = -1;
+    for (std::size_t i = 0; i < fit.parameters.size(); ++i)
+    {
+      const Parameter& p = fit.parameters[i];
+      const std::set<std::string> pk(p.keys.begin(), p.keys.end());
+      if (pk == keys)
+        index = int(i);
+      else
+        for (const auto& k : p.keys)
+          if (keys.count(k))
+            throw scene::Error(file + "parameter '" + p.label + "' sets " + k + " but not "
+                               "exactly the keys of the emulator's input " + in.name + " ("
+                               + join(in.keys, ", ") + "): set them together");
+    }
+    if (index >= 0)
+    {
+      const Parameter& p = fit.parameters[std::size_t(index)];
+      if (p.lower < in.low || p.upper > in.high)
+        throw scene::Error(file + format("parameter '%s': its bounds [%g, %g] reach outside "
+                                         "the emulator's box for %s %s",
+                                         p.label.c_str(), p.lower, p.upper, in.name.c_str(),
+                                         box(in).c_str()));
+      if (p.prior && (p.prior_mean < in.low - 3 * p.prior_sd
+                      || p.prior_mean > in.high + 3 * p.prior_sd))
+        throw scene::Error(file + format("the measured %s = %g (the prior's mean) is outside "
+                                         "the emulator's box %s by more than 3 sd",
+                                         p.label.c_str(), p.prior_mean, box(in).c_str()));
+      used.insert(std::size_t(index));
+      fit.emulator_inputs.emplace_back(index, nan);
+      continue;
+    }
+    // Fixed by the scene (the patient's geometry...): every key alike, inside the box.
+    const double value = scene.real(in.keys.at(0));
+    for (const auto& k : in.keys)
+      if (scene.real(k) != value)
+        throw scene::Error(file + format("the emulator's input %s sets %s together, but the "
+                                         "scene gives %s = %g and %s = %g",
+                                         in.name.c_str(), join(in.keys, ", ").c_str(),
+                                         in.keys[0].c_str(), value, k.c_str(), scene.real(k)));
+    if (value < in.low || value > in.high)
+      throw scene::Error(file + format("%s = %g (%s, the scene's with the fit's and the "
+                                       "patient's settings) is outside the emulator's box %s",
+                                       in.name.c_str(), value, in.keys[0].c_str(),
+                                       box(in).c_str()));
+    fit.emulator_inputs.emplace_back(-1, value);
+  }
+  for (std::size_t i = 0; i < fit.parameters.size(); ++i)
+    if (!used.count(i))
+      throw scene::Error(file + "parameter '" + fit.parameters[i].label + "' ("
+                         + join(fit.parameters[i].keys, ", ") + ") is none of the "
+                         "emulator's inputs");
+
+  for (std::size_t k = 0; k < fit.observations.size(); ++k)
+  {
+    const Observation& o = fit.observations[k];
+    const std::string where = file + "observation[" + std::to_string(k + 1) + "] (" + o.label
+                              + "): ";
+    if (o.kind == Kind::biomarker)
+    {
+      const auto readings = em.readings();
+      if (std::find(readings.begin(), readings.end(), o.quantity) == readings.end())
+        throw scene::Error(where + "the emulator holds no reading " + o.quantity + "; it holds "
+                           + join(readings, ", "));
+      const auto [lo, hi] = em.reading_range(o.quantity);
+      const double slack = 3 * o.sd[0];
+      if (o.value[0] < lo - slack || o.value[0] > hi + slack)
+        throw scene::Error(where + format("%s = %g is outside what the emulator's training "
+                                          "runs gave, [%g, %g], by more than 3 sd",
+                                          o.quantity.c_str(), o.value[0], lo, hi));
+      continue;
+    }
+    if (block_of(o).empty())
+      throw scene::Error(where + "the emulator holds the apex displacement, the whole eye's "
+                                 "motion and the anterior profile relative to its rest shape; "
+                                 "not " + o.quantity + (o.relative ? "" : " (absolute)"));
+    for (std::size_t i = 0; i < o.value.size(); ++i)
+      if (functional(em, o, i).empty())
+        throw scene::Error(where + (o.kind == Kind::curve
+                                        ? format("t = %g ms is outside the emulator's frames "
+                                                 "[%g, %g] ms",
+                                                 o.t[i], em.t_ms().front(), em.t_ms().back())
+                                        : format("(t, x) = (%g ms, %g mm) is not one of the "
+                                                 "emulator's profile points: frames %s ms, "
+                                                 "places %s mm",
+                                                 o.t[i], o.x[i],
+                                                 list(em.profile_t_ms()).c_str(),
+                                                 list(em.profile_x_mm()).c_str())));
+  }
+}
+
+EmulatedLikelihood::EmulatedLikelihood(const Fit& fit) : _fit(fit)
+{
+  std::vector<double> y, sd2;
+  for (const Observation& o : fit.observations)
+    for (std::size_t i = 0; i < o.value.size(); ++i)
+    {
+      if (o.kind == Kind::biomarker)
+        _reading_rows.emplace_back(y.size(), o.quantity);
+      else
+      {
+        _curve_rows.push_back(y.size());
+        _functionals.push_back(functional(*fit.emulator, o, i));
+      }
+      y.push_back(o.value[i]);
+      sd2.push_back(o.sd[i] * o.sd[i]);
+    }
+  _y = Eigen::Map<Eigen::VectorXd>(y.data(), Eigen::Index(y.size()));
+  _sd2 = Eigen::Map<Eigen::VectorXd>(sd2.data(), Eigen::Index(sd2.size()));
+  for (const Parameter& p : fit.parameters)
+    _priors += p.prior;
+}
+
+std::vector<double> EmulatedLikelihood::inputs(const std::vector<double>& theta) const
+{
+  std::vector<double> x;
+  for (const auto& [index, value] : _fit.emulator_inputs)
+    x.push_back(index >= 0 ? _fit.parameters[std::size_t(index)].value(theta[std::size_t(index)])
+                           : value);
+  return x;
+}
+
+EmulatedLikelihood::Parts EmulatedLikelihood::parts(const std::vector<double>& theta) const
+{
+  const emulator::Emulator& em = *_fit.emulator;
+  const std::vector<double> x = inputs(theta);
+  const Eigen::Index m = _y.size(), n = Eigen::Index(theta.size());
+  // d(input)/d(theta_j): the parameter's input only.
+  std::vector<std::pair<std::size_t, double>> chain(theta.size());
+  for (std::size_t i = 0; i < _fit.emulator_inputs.size(); ++i)
+    if (const int j = _fit.emulator_inputs[i].first; j >= 0)
+    {
+      const Parameter& p = _fit.parameters[std::size_t(j)];
+      chain[std::size_t(j)] = {i, p.log ? x[i] : 1.0};
+    }
+  const emulator::Projection pr = em.project(_functionals, x);
+  const Eigen::Index k = Eigen::Index(pr.components.size());
+  Parts s;
+  s.mean.resize(m), s.d = _sd2, s.gradient.setZero(m, n), s.F.setZero(m, k);
+  s.dd.setZero(m, n), s.v.resize(k), s.dv.resize(k, n);
+  for (Eigen::Index c = 0; c < k; ++c)
+  {
+    s.v(c) = pr.components[std::size_t(c)].variance;
+    for (Eigen::Index j = 0; j < n; ++j)
+      s.dv(c, j) = pr.components[std::size_t(c)].variance_gradient[chain[std::size_t(j)].first]
+                   * chain[std::size_t(j)].second;
+  }
+  for (std::size_t q = 0; q < _curve_rows.size(); ++q)
+  {
+    const Eigen::Index row = Eigen::Index(_curve_rows[q]);
+    s.mean(row) = pr.mean[q];
+    s.d(row) += pr.truncation[q];
+    for (Eigen::Index c = 0; c < k; ++c)
+      s.F(row, c) = pr.factor[q][std::size_t(c)];
+    for (Eigen::Index j = 0; j < n; ++j)
+      s.gradient(row, j) = pr.gradient[q][chain[std::size_t(j)].first] * chain[std::size_t(j)].second;
+  }
+  for (const auto& [r, key] : _reading_rows)
+  {
+    const emulator::Value v = em.reading(key, x);
+    const Eigen::Index row = Eigen::Index(r);
+    s.mean(row) = v.mean;
+    s.d(row) += v.variance;
+    for (Eigen::Index j = 0; j < n; ++j)
+    {
+      s.gradient(row, j) = v.gradient[chain[std::size_t(j)].first] * chain[std::size_t(j)].second;
+      s.dd(row, j) = v.variance_gradient[chain[std::size_t(j)].first]
+                     * chain[std::size_t(j)].second;
+    }
+  }
+  return s;
+}
+
+EmulatedLikelihood::Evaluation EmulatedLikelihood::evaluate(const std::vector<double>& theta,
+                                                            bool jacobian) const
+{
+  const Parts s = parts(theta);
+  const Eigen::Index m = _y.size(), n = Eigen::Index(theta.size());
+  const Eigen::MatrixXd S = Eigen::MatrixXd(s.d.asDiagonal())
+                            + s.F * s.v.asDiagonal() * s.F.transpose();
+  const Eigen::LLT<Eigen::MatrixXd> llt(S);
+  if (llt.info() != Eigen::Success)
+    throw std::runtime_error("the likelihood's covariance is not positive definite");
+  const auto L = llt.matrixL();
+  const Eigen::VectorXd e = s.mean - _y;
+  const Eigen::VectorXd r = L.solve(e);
+  double log_det = -_sd2.array().log().sum();
+  for (Eigen::Index i = 0; i < m; ++i)
+    log_det += 2 * std::log(llt.matrixLLT()(i, i));
+  const double r_det = std::sqrt(std::max(log_det, 0.0));
+
+  Evaluation out;
+  out.r.resize(Eigen::Index(residuals()));
+  out.r.head(m) = r;
+  out.r(m) = r_det;
+  out.chi2 = r.squaredNorm();
+  out.model = s.mean;
+  out.model_sd = (s.d - _sd2 + (s.F.array().square().matrix() * s.v)).cwiseMax(0.0).cwiseSqrt();
+  Eigen::Index row = m + 1;
+  for (std::size_t i = 0; i < _fit.parameters.size(); ++i)
+    if (const Parameter& p = _fit.parameters[i]; p.prior)
+      out.r(row++) = (p.value(theta[i]) - p.prior_mean) / p.prior_sd;
+  if (!jacobian)
+    return out;
+
+  out.jacobian.setZero(Eigen::Index(residuals()), n);
+  for (Eigen::Index j = 0; j < n; ++j)
+  {
+    // M = L^-1 dS/dtheta_j L^-T; dr = L^-1 de - Phi(M) r; d(log det) = tr M.
+    const Eigen::MatrixXd dS = s.F * s.dv.col(j).asDiagonal() * s.F.transpose()
+                               + Eigen::MatrixXd(s.dd.col(j).asDiagonal());
+    const Eigen::MatrixXd A = L.solve(dS);
+    const Eigen::MatrixXd M = L.solve(A.transpose());
+    const Eigen::VectorXd phi_r = M.triangularView<Eigen::StrictlyLower>() * r
+                                  + 0.5 * M.diagonal().cwiseProduct(r);
+    out.jacobian.col(j).head(m) = L.solve(s.gradient.col(j)) - phi_r;
+    out.jacobian(m, j) = r_det > 1e-12 ? M.trace() / (2 * r_det) : 0.0;
+  }
+  row = m + 1;
+  for (std::size_t i = 0; i < _fit.parameters.size(); ++i)
+    if (const Parameter& p = _fit.parameters[i]; p.prior)
+      out.jacobian(row++, Eigen::Index(i)) = (p.log ? p.value(theta[i]) : 1.0) / p.prior_sd;
+  return out;
+}
+
+double EmulatedLikelihood::log_posterior(const std::vector<double>& theta) const
+{
+  for (std::size_t i = 0; i < theta.size(); ++i)
+  {
+    const Parameter& p = _fit.parameters[i];
+    if (!(theta[i] >= p.variable(p.lower) && theta[i] <= p.variable(p.upper)))
+      return -std::numeric_limits<double>::infinity();
+  }
+  const Parts s = parts(theta);
+  // S = D + F V F^T: with W = D^-1/2 F V^1/2, B = I + W^T W,
+  // e^T S^-1 e = |D^-1/2 e|^2 - b^T B^-1 b (b = W^T D^-1/2 e) and
+  // log det S = log det D + log det B.
+  const Eigen::VectorXd inv_sqrt_d = s.d.cwiseSqrt().cwiseInverse();
+  const Eigen::VectorXd e = (s.mean - _y).cwiseProduct(inv_sqrt_d);
+  const Eigen::MatrixXd W = inv_sqrt_d.asDiagonal() * s.F * s.v.cwiseSqrt().asDiagonal();
+  const Eigen::MatrixXd B = Eigen::MatrixXd::Identity(W.cols(), W.cols()) + W.transpose() * W;
+  const Eigen::LLT<Eigen::MatrixXd> llt(B);
+  const Eigen::VectorXd b = W.transpose() * e;
+  double minus_2_log = e.squaredNorm() - b.dot(llt.solve(b)) + s.d.array().log().sum()
+                       - _sd2.array().log().sum();
+  for (Eigen::Index i = 0; i < B.rows(); ++i)
+    minus_2_log += 2 * std::log(llt.matrixLLT()(i, i));
+  for (std::size_t i = 0; i < _fit.parameters.size(); ++i)
+    if (const Parameter& p = _fit.parameters[i]; p.prior)
+      minus_2_log += std::pow((p.value(theta[i]) - p.prior_mean) / p.prior_sd, 2);
+  return -0.5 * minus_2_log;
+}
+
+Eigen::VectorXd EmulatedLikelihood::shift(const std::vector<double>& theta,
+                                          const std::vector<double>& values) const
+{
+  const Parts s = parts(theta);
+  const Eigen::MatrixXd S = Eigen::MatrixXd(s.d.asDiagonal())
+                            + s.F * s.v.asDiagonal() * s.F.transpose();
+  const Eigen::LLT<Eigen::MatrixXd> llt(S);
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(residuals()));
+  for (Eigen::Index i = 0; i < _y.size(); ++i)
+    d(i) = values.at(std::size_t(i)) - s.mean(i);
+  d.head(_y.size()) = llt.matrixL().solve(d.head(_y.size()));
+  const Eigen::MatrixXd J = evaluate(theta, true).jacobian;
+  return -(J.transpose() * J).ldlt().solve(J.transpose() * d);
+}
+
+namespace
+{
+
+/// The likelihood's residuals for Ceres, with their exact Jacobian.
+class EmulatedCost : public ceres::CostFunction
+{
+public:
+  explicit EmulatedCost(const EmulatedLikelihood& l, std::size_t n) : _l(l)
+  {
+    set_num_residuals(int(l.residuals()));
+    mutable_parameter_block_sizes()->push_back(int(n));
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override
+  {
+    const std::size_t n = std::size_t(parameter_block_sizes()[0]);
+    const std::vector<double> theta(parameters[0], parameters[0] + n);
+    const bool jacobian = jacobians && jacobians[0];
+    const auto e = _l.evaluate(theta, jacobian);
+    if (!e.r.allFinite() || (jacobian && !e.jacobian.allFinite()))
+      return false;
+    Eigen::Map<Eigen::VectorXd>(residuals, e.r.size()) = e.r;
+    if (jacobian) // Ceres: row-major
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+          jacobians[0], e.jacobian.rows(), e.jacobian.cols())
+          = e.jacobian;
+    return true;
+  }
+
+private:
+  const EmulatedLikelihood& _l;
+};
+
+/// The variables at a bound (within 1e-9 of the bounds' span) whose
+/// cost's gradient points out of the box.
+std::vector<int> pushed_to_bounds(const Fit& fit, const EmulatedLikelihood& l,
+                                  const std::vector<double>& theta)
+{
+  const auto e = l.evaluate(theta, true);
+  const Eigen::VectorXd g = e.jacobian.transpose() * e.r;
+  std::vector<int> held;
+  for (std::size_t i = 0; i < theta.size(); ++i)
+  {
+    const Parameter& p = fit.parameters[i];
+    const double lo = p.variable(p.lower), hi = p.variable(p.upper), tol = 1e-9 * (hi - lo);
+    if ((theta[i] <= lo + tol && g(Eigen::Index(i)) > 0)
+        || (theta[i] >= hi - tol && g(Eigen::Index(i)) < 0))
+      held.push_back(int(i));
+  }
+  return held;
+}
+
+/// The largest |correlation| of a covariance (NaN when unknown).
+double largest_correlation(const std::vector<double>& c, std::size_t n)
+{
+  double most = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j)
+      most = std::max(most, std::abs(c[i * n + j] / std::sqrt(c[i * n + i] * c[j * n + j])));
+  return most;
+}
+
+/// The posterior by the ensemble sampler, its walkers started about the
+/// answer (the Laplace covariance's draws, or a hundredth of the bounds);
+/// into the outcome: the intervals, SEs and covariance of the samples;
+/// posterior.csv (every fifth step) into out.
+nlohmann::json sample_posterior(const Fit& fit, const EmulatedLikelihood& l, Outcome& o,
+                                const fs::path& out)
+{
+  const std::size_t n = o.theta.size();
+  std::mt19937_64 rng{static_cast<std::uint64_t>(fit.seed) + 7};
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd chol = Eigen::MatrixXd::Zero(Eigen::Index(n), Eigen::Index(n));
+  bool spread = o.identifiable;
+  if (spread)
+  {
+    Eigen::Map<const Eigen::MatrixXd> c(o.covariance.data(), Eigen::Index(n), Eigen::Index(n));
+    const Eigen::LLT<Eigen::MatrixXd> llt(c);
+    spread = llt.info() == Eigen::Success && c.diagonal().minCoeff() > 0;
+    if (spread)
+      chol = llt.matrixL();
+  }
+  if (!spread) // a variable held at a bound, or none determined: a hundredth of the bounds
+    for (std::size_t i = 0; i < n; ++i)
+      chol(Eigen::Index(i), Eigen::Index(i)) = 0.01 * (fit.parameters[i].variable(
+                                                           fit.parameters[i].upper)
+                                                       - fit.parameters[i].variable(
+                                                           fit.parameters[i].lower));
+  auto log_p = [&](const std::vector<double>& t) { return l.log_posterior(t); };
+  std::vector<std::vector<double>> start;
+  for (int w = 0; w < fit.walkers; ++w)
+    for (int tries = 0;; ++tries)
+    {
+      Eigen::VectorXd z(n);
+      for (auto& zi : z)
+        zi = normal(rng) * (tries < 50 ? 0.5 : 0.01);
+      const Eigen::VectorXd d = chol * z;
+      std::vector<double> t = o.theta;
+      for (std::size_t i = 0; i < n; ++i)
+        t[i] += d(Eigen::Index(i));
+      if (std::isfinite(log_p(t)) || tries > 100)
+      {
+        start.push_back(std::isfinite(log_p(t)) ? t : o.theta);
+        break;
+      }
+    }
+  const int burn = fit.steps / 3;
+  const Chain chain = sample(log_p, start, fit.steps, burn, fit.seed);
+
+  // Intervals, SEs and correlations of the samples.
+  const std::size_t s = chain.samples.size();
+  Eigen::MatrixXd X(static_cast<Eigen::Index>(s), static_cast<Eigen::Index>(n));
+  for (std::size_t k = 0; k < s; ++k)
+    for (std::size_t i = 0; i < n; ++i)
+      X(Eigen::Index(k), Eigen::Index(i)) = chain.samples[k][i];
+  const Eigen::RowVectorXd mean = X.colwise().mean();
+  const Eigen::MatrixXd centred = X.rowwise() - mean;
+  const Eigen::MatrixXd cov = centred.transpose() * centred / double(s - 1);
+  o.covariance.assign(n * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j)
+      o.covariance[i * n + j] = cov(Eigen::Index(i), Eigen::Index(j));
+  o.intervals.clear(), o.se.clear();
+  nlohmann::json median = nlohmann::json::array();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const Parameter& p = fit.parameters[i];
+    std::vector<double> values(s);
+    double sum = 0, sum2 = 0;
+    for (std::size_t k = 0; k < s; ++k)
+    {
+      values[k] = p.value(chain.samples[k][i]);
+      sum += values[k], sum2 += values[k] * values[k];
+    }
+    o.intervals.push_back({quantile(values, 0.025), quantile(values, 0.975)});
+    o.se.push_back(std::sqrt(std::max(sum2 / double(s) - std::pow(sum / double(s), 2), 0.0)));
+    median.push_back(quantile(values, 0.5));
+  }
+  std::ostringstream csv;
+  for (const Parameter& p : fit.parameters)
+    csv << p.label << ",";
+  csv << "log_posterior\n";
+  for (std::size_t k = 0; k < s; k += 5 * std::size_t(chain.walkers))
+    for (std::size_t w = 0; w < std::size_t(chain.walkers) && k + w < s; ++w)
+    {
+      for (std::size_t i = 0; i < n; ++i)
+        csv << io::literal(fit.parameters[i].value(chain.samples[k + w][i])) << ",";
+      csv << io::literal(chain.log_p[k + w]) << "\n";
+    }
+  io::write_atomic(out / "posterior.csv", csv.str());
+  double tau = 0;
+  for (double t : chain.autocorrelation)
+    tau = std::max(tau, t);
+  return {{"method", "affine-invariant ensemble sampler (stretch move)"},
+          {"walkers", chain.walkers},
+          {"steps", chain.steps},
+          {"burn_in", chain.burn_in},
+          {"acceptance", chain.acceptance},
+          {"autocorrelation_steps", chain.autocorrelation},
+          {"effective_samples", double(s) / std::max(tau, 1.0)},
+          {"median", median},
+          {"samples", "posterior.csv (every fifth step)"}};
+}
+
+/// The forward run at the answer against the emulator's prediction there:
+/// each point's difference in the emulator's SDs, and the shift of the
+/// answer the differences cause (a Gauss-Newton step of the likelihood with
+/// the run's values in place of the emulator's). The verdict: they agree
+/// when at least 90 % of the points lie within 2 of the emulator's SDs
+/// (its error as stated) and no parameter moves by more than half its
+/// standard error (the answer stands).
+nlohmann::json confirm(const Fit& fit, const Options& o, const EmulatedLikelihood& l,
+                       const Outcome& outcome, fs::path& run)
+{
+  Forward forward(fit, o, jobs::launcher_for(fit.launcher, o.launcher, o.out, fit.ranks, "fit",
+                                             fit.file));
+  const auto start = std::chrono::steady_clock::now();
+  run = forward.runs({outcome.theta})[0];
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+                          .count();
+  if (run.empty())
+    return {{"verdict", "failed"}, {"wall_s", wall},
+            {"why", "the forward run at the answer did not converge: see "
+                        + (o.out / "runs").string()}};
+  const std::vector<double> truth = model_values(fit, run);
+  const auto e = l.evaluate(outcome.theta, false);
+  const std::size_t m = truth.size(), n = outcome.theta.size();
+  double chi2_run = 0, largest = 0;
+  std::string where;
+  std::size_t within = 0, j = 0;
+  for (const Observation& ob : fit.observations)
+    for (std::size_t i = 0; i < ob.value.size(); ++i, ++j)
+    {
+      const double z = (truth[j] - e.model(Eigen::Index(j))) / e.model_sd(Eigen::Index(j));
+      within += std::abs(z) <= 2;
+      if (std::abs(z) > std::abs(largest))
+      {
+        largest = z;
+        where = ob.label + (ob.kind == Kind::biomarker ? std::string()
+                                                       : format(" at t = %g ms", ob.t[i]))
+                + (ob.kind == Kind::profile ? format(", x = %g mm", ob.x[i]) : std::string());
+      }
+      chi2_run += std::pow((truth[j] - ob.value[i]) / ob.sd[i], 2);
+    }
+  const Eigen::VectorXd shift = l.shift(outcome.theta, truth);
+  const double share = double(within) / double(m);
+  bool agree = share >= 0.9; // the emulator's error as it states it
+  nlohmann::json shifts = nlohmann::json::object();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const double se = std::sqrt(outcome.covariance[i * n + i]);
+    const double in_se = shift(Eigen::Index(i)) / se;
+    agree = agree && std::abs(in_se) <= 0.5;
+    const Parameter& p = fit.parameters[i];
+    shifts[p.label] = {{"value", p.value(outcome.theta[i] + shift(Eigen::Index(i)))
+                                     - p.value(outcome.theta[i])},
+                       {"in_se", std::isfinite(in_se) ? nlohmann::json(in_se)
+                                                      : nlohmann::json()}};
+  }
+  return {{"verdict", agree ? "agrees" : "disagrees"},
+          {"run", fs::absolute(run).string()},
+          {"points", m},
+          {"largest_standardised_difference", largest},
+          {"largest_where", where},
+          {"share_within_2sd", share},
+          {"shift", shifts},
+          {"chi2_of_the_run", chi2_run},
+          {"chi2_of_the_emulator", e.chi2},
+          {"wall_s", wall}};
+}
+
+/// Where the confirming run disagrees: the fit again with forward runs,
+/// from the emulator's answer (each bound's side kept a thousandth of the
+/// span inside), into out/corrected; its answer.
+nlohmann::json correct(const Fit& fit, const Options& o, const Outcome& outcome)
+{
+  Fit forward = fit;
+  forward.emulator.reset();
+  for (std::size_t i = 0; i < forward.parameters.size(); ++i)
+  {
+    Parameter& p = forward.parameters[i];
+    const double lo = p.variable(p.lower), hi = p.variable(p.upper), margin = 1e-3 * (hi - lo);
+    p.start = p.value(std::clamp(outcome.theta[i], lo + margin, hi - margin));
+  }
+  Options options = o;
+  options.out = o.out / "corrected";
+  std::cout << "\nfit: the confirming run disagrees with the emulator: corrected steps with "
+               "forward runs from its answer -> " << options.out.string() << std::endl;
+  const int code = run(forward, options);
+  nlohmann::json out = {{"folder", fs::absolute(options.out).string()}, {"exit_code", code}};
+  if (fs::exists(options.out / "fit.json"))
+  {
+    const auto answer = nlohmann::json::parse(jobs::read_text(options.out / "fit.json"));
+    out["status"] = answer["status"];
+    out["forward_runs"] = answer["forward_runs"];
+    out["parameters"] = nlohmann::json::array();
+    for (const auto& p : answer["parameters"])
+      out["parameters"].push_back({{"label", p["label"]}, {"value", p["value"]},
+                                   {"ci95", p["ci95"]}});
+  }
+  return out;
+}
+
+} // namespace
+
+int run_emulated(const Fit& fit, const Options& o)
+{
+  const auto start = std::chrono::steady_clock::now();
+  fs::create_directories(o.out);
+  if (fs::exists(o.out / "fit.toml")
+      && jobs::read_text(o.out / "fit.toml") != jobs::read_text(fit.file))
+    throw scene::Error(fit.file.string() + ": " + o.out.string() + " holds another fit (its "
+                       "fit.toml differs); give a new --out or remove it");
+  const EmulatedLikelihood l(fit);
+  std::cout << "fit " << fit.file.string()
+            << (fit.patient ? " (patient " + fit.patient->id + ")" : std::string()) << ": "
+            << fit.parameters.size() << " parameter(s), " << fit.residuals()
+            << " weighted residual(s) from " << fit.observations.size()
+            << " observation(s), on the emulator " << fit.emulator_file.string() << " -> "
+            << o.out.string() << std::endl;
+  if (o.dry_run)
+  {
+    std::cout << "fit: the fit file and its emulator check out; nothing run (--dry-run)"
+              << std::endl;
+    return 0;
+  }
+  io::write_atomic(o.out / "fit.toml", jobs::read_text(fit.file));
+  jobs::catch_interrupts();
+
+  FLAGS_minloglevel = 3;
+  FLAGS_logtostderr = true;
+  std::vector<double> theta;
+  for (const Parameter& p : fit.parameters)
+    theta.push_back(p.variable(p.start));
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  EmulatedCost cost(l, theta.size());
+  problem.AddResidualBlock(&cost, nullptr, theta.data());
+  for (std::size_t i = 0; i < theta.size(); ++i)
+  {
+    const Parameter& p = fit.parameters[i];
+    problem.SetParameterLowerBound(theta.data(), int(i), p.variable(p.lower));
+    problem.SetParameterUpperBound(theta.data(), int(i), p.variable(p.upper));
+  }
+  ceres::Solver::Options options = solver_options(fit);
+  Progress progress(fit, nullptr, nullptr, theta.data(), o.out);
+  options.callbacks.push_back(&progress);
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  int iterations = int(summary.iterations.size()) - 1;
+  // Ceres projects each step onto the bounds: along a valley that ends at
+  // a bound its steps shrink to nothing. The variables at a bound whose
+  // gradient pushes outwards are held there and the others solved again
+  // (an active set).
+  const std::vector<int> held = pushed_to_bounds(fit, l, theta);
+  if (!held.empty() && held.size() < theta.size())
+  {
+    problem.SetManifold(theta.data(), new ceres::SubsetManifold(int(theta.size()), held));
+    ceres::Solve(options, &problem, &summary);
+    iterations += int(summary.iterations.size()) - 1;
+  }
+  if (jobs::interrupted())
+    return 130;
+  if (summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost))
+  {
+    std::cerr << "fit: failed on the emulator: " << summary.message << std::endl;
+    return 3;
+  }
+
+  Outcome outcome;
+  outcome.theta = theta;
+  const auto e = l.evaluate(theta, false);
+  outcome.model.assign(e.model.data(), e.model.data() + e.model.size());
+  // Each point's residual standardised by the noise and the emulator's SD.
+  std::size_t j = 0;
+  for (const Observation& ob : fit.observations)
+    for (std::size_t i = 0; i < ob.value.size(); ++i, ++j)
+      outcome.residuals.push_back((outcome.model[j] - ob.value[i])
+                                  / std::hypot(ob.sd[i], e.model_sd(Eigen::Index(j))));
+  double chi2 = e.chi2;
+  for (Eigen::Index r = Eigen::Index(j) + 1; r < e.r.size(); ++r)
+  {
+    outcome.residuals.push_back(e.r(r));
+    chi2 += e.r(r) * e.r(r);
+  }
+  outcome.chi2 = chi2;
+  outcome.covariance = covariance_at(problem, theta.data(), theta.size(), outcome.identifiable);
+  outcome.status = summary.termination_type == ceres::CONVERGENCE ? "converged" : "max_iterations";
+  outcome.message = summary.message;
+  outcome.iterations = iterations;
+  outcome.cost = summary.final_cost;
+  outcome.sets = forward_sets(fit, theta);
+
+  nlohmann::json extra;
+  std::vector<double> model_sd(e.model_sd.data(), e.model_sd.data() + e.model_sd.size());
+  const double most = outcome.identifiable
+                          ? largest_correlation(outcome.covariance, theta.size())
+                          : std::numeric_limits<double>::infinity();
+  extra["forward_model"] = {{"emulator", fs::absolute(fit.emulator_file).string()},
+                            {"inputs", l.inputs(theta)},
+                            {"model_sd", model_sd},
+                            {"log_det_residual", e.r(Eigen::Index(j))}};
+  extra["laplace"] = {{"largest_correlation", std::isfinite(most) ? nlohmann::json(most)
+                                                                  : nlohmann::json()},
+                      {"held_at_bounds", held.size()}};
+  // Sampled where the Laplace interval does not hold: correlated, held at
+  // a bound, or undetermined.
+  const bool mcmc = fit.posterior == "mcmc"
+                    || (fit.posterior == "auto" && (!(most <= 0.9) || !held.empty()));
+  if (mcmc)
+    extra["posterior"] = sample_posterior(fit, l, outcome, o.out);
+  outcome.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  extra["emulator_fit_wall_s"] = outcome.wall_s;
+  if (fit.confirm)
+  {
+    fs::path run;
+    extra["confirmation"] = confirm(fit, o, l, outcome, run);
+    outcome.best_run = run;
+    outcome.forward_runs = run.empty() ? 0 : 1;
+    if (extra["confirmation"]["verdict"] != "agrees")
+      extra["corrected"] = correct(fit, o, outcome);
+  }
+  outcome.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  outcome.extra = extra;
+  report_answer(fit, outcome, o.out);
+  if (fit.confirm)
+    std::cout << "confirming run: "
+              << extra["confirmation"]["verdict"].get<std::string>() << " with the emulator"
+              << (extra["confirmation"].contains("share_within_2sd")
+                      ? format(" (%.0f %% of its values within 2 of the emulator's SDs, 90 %% "
+                               "needed; the answer's shift at most half an SE)",
+                               100 * extra["confirmation"]["share_within_2sd"].get<double>())
+                      : std::string())
+              << std::endl;
+  return outcome.status == "converged" ? 0 : 3;
+}
+
+} // namespace nct::fit
