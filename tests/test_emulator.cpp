@@ -102,17 +102,29 @@ TEST(Emulator, VarianceGradientAndProjection)
     EXPECT_NEAR(em.reading("hc_time_ms", x).variance_gradient[j], fd,
                 1e-3 * std::max(std::abs(fd), 1e-12)) << "input " << j;
   }
-  // A single output, and half of two neighbours.
+  // A single output, and half of two neighbours: offset + factor w.
   const std::size_t o = 7;
-  const auto p = em.project({{{o, 1.0}}, {{o, 0.5}, {o + 1, 0.5}}}, x);
-  double variance = p.truncation[0];
-  for (std::size_t c = 0; c < p.components.size(); ++c)
-    variance += p.factor[0][c] * p.factor[0][c] * p.components[c].variance;
-  EXPECT_NEAR(p.mean[0], curves[o].mean, 1e-12);
-  EXPECT_NEAR(variance, curves[o].variance, 1e-15);
-  EXPECT_NEAR(p.mean[1], 0.5 * (curves[o].mean + curves[o + 1].mean), 1e-12);
+  const auto p = em.project({{{o, 1.0}}, {{o, 0.5}, {o + 1, 0.5}}});
+  const auto w = em.components(x);
+  auto at = [&](std::size_t f)
+  {
+    double mean = p.offset[f], variance = p.truncation[f];
+    std::vector<double> gradient(x.size(), 0.0);
+    for (std::size_t c = 0; c < w.size(); ++c)
+    {
+      mean += p.factor[f][c] * w[c].mean;
+      variance += p.factor[f][c] * p.factor[f][c] * w[c].variance;
+      for (std::size_t j = 0; j < x.size(); ++j)
+        gradient[j] += p.factor[f][c] * w[c].gradient[j];
+    }
+    return nct::emulator::Value{mean, variance, gradient, {}};
+  };
+  EXPECT_NEAR(at(0).mean, curves[o].mean, 1e-12);
+  EXPECT_NEAR(at(0).variance, curves[o].variance, 1e-15);
+  EXPECT_NEAR(at(1).mean, 0.5 * (curves[o].mean + curves[o + 1].mean), 1e-12);
   for (std::size_t j = 0; j < x.size(); ++j)
-    EXPECT_NEAR(p.gradient[0][j], curves[o].gradient[j], 1e-12 * std::abs(curves[o].gradient[j]));
+    EXPECT_NEAR(at(0).gradient[j], curves[o].gradient[j],
+                1e-12 * std::abs(curves[o].gradient[j]));
   EXPECT_EQ(em.inputs()[1].keys, (std::vector<std::string>{"inflate.iop"}));
   const auto [lo, hi] = em.reading_range("hc_time_ms");
   EXPECT_LT(lo, hi);

@@ -27,12 +27,12 @@ Process read_process(const nlohmann::json& g)
   return p;
 }
 
-/// A process at the unit-cube point u: mean, variance and their
-/// gradients with respect to u.
-Value evaluate(const Process& p, const std::vector<double>& u)
+/// A process at the unit-cube point u: mean, variance and, with
+/// `derivatives`, their gradients with respect to u.
+Value evaluate(const Process& p, const std::vector<double>& u, bool derivatives = true)
 {
   const std::size_t n = p.X.size(), d = u.size();
-  std::vector<double> k(n), dk(n * d); // k*, and dk*_i/du_j at i * d + j
+  std::vector<double> k(n), dk(derivatives ? n * d : 0); // k*, and dk*_i/du_j at i * d + j
   Value v;
   v.gradient.assign(d, 0.0);
   v.variance_gradient.assign(d, 0.0);
@@ -48,6 +48,8 @@ Value evaluate(const Process& p, const std::vector<double>& u)
     const double r = std::sqrt(r2), e = std::exp(-std::sqrt(5.0) * r);
     k[i] = p.constant * (1 + std::sqrt(5.0) * r + 5 * r2 / 3) * e;
     sum += k[i] * p.alpha[i];
+    if (!derivatives)
+      continue;
     // dk/du_j = -(5/3) c (1 + sqrt5 r) exp(-sqrt5 r) (u_j - X_ij) / l_j^2
     const double f = -(5.0 / 3.0) * p.constant * (1 + std::sqrt(5.0) * r) * e;
     for (std::size_t j = 0; j < d; ++j)
@@ -72,6 +74,8 @@ Value evaluate(const Process& p, const std::vector<double>& u)
   }
   const double y2 = p.y_std * p.y_std, raw = p.constant + p.noise - ww;
   v.variance = y2 * std::max(raw, 0.0);
+  if (!derivatives)
+    return v;
   // d(var)/du = -2 y_std^2 (L^-T w)^T dk/du, by back substitution.
   for (std::size_t i = n; i-- > 0;)
   {
@@ -170,13 +174,7 @@ Emulator::unit(const std::vector<double>& x) const
 
 std::vector<Value> Emulator::curves(const std::vector<double>& x) const
 {
-  const auto [u, du] = unit(x);
-  std::vector<Value> w;
-  for (const Process& p : _components)
-  {
-    w.push_back(evaluate(p, u));
-    chain(w.back(), du);
-  }
+  const std::vector<Value> w = components(x);
   std::vector<Value> out(_mean.size());
   for (std::size_t o = 0; o < _mean.size(); ++o)
   {
@@ -207,55 +205,52 @@ std::vector<Value> Emulator::curves(const std::vector<double>& x) const
   return out;
 }
 
-Projection Emulator::project(const std::vector<Functional>& functionals,
-                             const std::vector<double>& x) const
+Projection Emulator::project(const std::vector<Functional>& functionals) const
 {
-  const auto [u, du] = unit(x);
-  Projection p;
-  for (const Process& g : _components)
-  {
-    p.components.push_back(evaluate(g, u));
-    chain(p.components.back(), du);
-  }
   const std::size_t k = _components.size();
+  Projection p;
   for (const Functional& f : functionals)
   {
-    double mean = 0, truncation = 0;
-    std::vector<double> factor(k, 0.0), gradient(x.size(), 0.0);
+    double offset = 0, truncation = 0;
+    std::vector<double> factor(k, 0.0);
     for (const auto& [o, a] : f)
     {
       if (o >= _mean.size())
         throw std::out_of_range(io::format("output %zu of an emulator of %zu", o, _mean.size()));
-      mean += a * _mean[o];
+      offset += a * _mean[o];
       truncation += a * a * _truncation[o];
       for (std::size_t c = 0; c < k; ++c)
         factor[c] += a * _basis[o][c];
     }
-    for (std::size_t c = 0; c < k; ++c)
-    {
-      mean += factor[c] * p.components[c].mean;
-      for (std::size_t j = 0; j < x.size(); ++j)
-        gradient[j] += factor[c] * p.components[c].gradient[j];
-    }
     for (auto& b : factor)
       b *= _noise_mm;
-    for (auto& g : gradient)
-      g *= _noise_mm;
-    p.mean.push_back(mean * _noise_mm);
-    p.gradient.push_back(gradient);
+    p.offset.push_back(offset * _noise_mm);
     p.factor.push_back(factor);
     p.truncation.push_back(truncation * _noise_mm * _noise_mm);
   }
   return p;
 }
 
-Value Emulator::reading(const std::string& key, const std::vector<double>& x) const
+std::vector<Value> Emulator::components(const std::vector<double>& x, bool derivatives) const
+{
+  const auto [u, du] = unit(x);
+  std::vector<Value> w;
+  for (const Process& g : _components)
+  {
+    w.push_back(evaluate(g, u, derivatives));
+    chain(w.back(), du);
+  }
+  return w;
+}
+
+Value Emulator::reading(const std::string& key, const std::vector<double>& x,
+                        bool derivatives) const
 {
   const auto at = _readings.find(key);
   if (at == _readings.end())
     throw std::out_of_range("the emulator has no reading '" + key + "'");
   const auto [u, du] = unit(x);
-  Value v = evaluate(at->second, u);
+  Value v = evaluate(at->second, u, derivatives);
   chain(v, du);
   return v;
 }

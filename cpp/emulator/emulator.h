@@ -51,18 +51,14 @@ struct Input
 /// (an interpolation between frames, say).
 using Functional = std::vector<std::pair<std::size_t, double>>;
 
-/// Linear functionals of the curves at a point, with their joint
-/// distribution: covariance = factor diag(components' variances) factor^T
-/// + diag(truncation).
+/// Linear functionals of the curves, their fixed part: at a point x each
+/// is offset + factor w(x), w the components' weights, with covariance
+/// factor diag(var w) factor^T + diag(truncation).
 struct Projection
 {
-  std::vector<double> mean;                  ///< per functional [mm]
-  std::vector<std::vector<double>> gradient; ///< per functional, d(mean)/d(input)
-  std::vector<std::vector<double>> factor;   ///< per functional, per component [mm]
-  std::vector<double> truncation;            ///< per functional [mm^2]
-  /// Each component's weight: variance and its gradient (in the factor's
-  /// units: the covariance's term is factor v factor^T).
-  std::vector<Value> components;
+  std::vector<double> offset;              ///< per functional [mm]
+  std::vector<std::vector<double>> factor; ///< per functional, per component [mm]
+  std::vector<double> truncation;          ///< per functional [mm^2]
 };
 
 /// An exported emulator (python/nct/emulator.py, format "nct-emulator-1").
@@ -80,14 +76,21 @@ public:
   /// std::out_of_range naming an input outside the box.
   std::vector<Value> curves(const std::vector<double>& x) const;
 
-  /// Linear functionals of the curves' outputs at x, with their
-  /// covariance's factors; throws std::out_of_range as curves().
-  Projection project(const std::vector<Functional>& functionals,
-                     const std::vector<double>& x) const;
+  /// Linear functionals of the curves' outputs (their fixed part).
+  Projection project(const std::vector<Functional>& functionals) const;
 
-  /// A reading's value (its key in summary.json); throws std::out_of_range
-  /// for an input outside the box or a reading the emulator lacks.
-  Value reading(const std::string& key, const std::vector<double>& x) const;
+  /// The curves' components kept.
+  std::size_t component_count() const { return _components.size(); }
+
+  /// The components' weights at x: mean, variance and, with
+  /// `derivatives`, their gradients; throws std::out_of_range as curves().
+  std::vector<Value> components(const std::vector<double>& x, bool derivatives = true) const;
+
+  /// A reading's value (its key in summary.json; the gradients zero
+  /// without `derivatives`); throws std::out_of_range for an input outside
+  /// the box or a reading the emulator lacks.
+  Value reading(const std::string& key, const std::vector<double>& x,
+                bool derivatives = true) const;
 
   /// The readings the emulator holds.
   std::vector<std::string> readings() const;

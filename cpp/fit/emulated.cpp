@@ -217,6 +217,7 @@ void attach_emulator(Fit& fit, const scene::Scene& scene)
 EmulatedLikelihood::EmulatedLikelihood(const Fit& fit) : _fit(fit)
 {
   std::vector<double> y, sd2;
+  std::vector<emulator::Functional> functionals;
   for (const Observation& o : fit.observations)
     for (std::size_t i = 0; i < o.value.size(); ++i)
     {
@@ -225,15 +226,27 @@ EmulatedLikelihood::EmulatedLikelihood(const Fit& fit) : _fit(fit)
       else
       {
         _curve_rows.push_back(y.size());
-        _functionals.push_back(functional(*fit.emulator, o, i));
+        functionals.push_back(functional(*fit.emulator, o, i));
       }
       y.push_back(o.value[i]);
       sd2.push_back(o.sd[i] * o.sd[i]);
     }
-  _y = Eigen::Map<Eigen::VectorXd>(y.data(), Eigen::Index(y.size()));
-  _sd2 = Eigen::Map<Eigen::VectorXd>(sd2.data(), Eigen::Index(sd2.size()));
-  for (const Parameter& p : fit.parameters)
-    _priors += p.prior;
+  const Eigen::Index m = Eigen::Index(y.size());
+  _y = Eigen::Map<Eigen::VectorXd>(y.data(), m);
+  _sd2 = Eigen::Map<Eigen::VectorXd>(sd2.data(), m);
+  const emulator::Projection p = fit.emulator->project(functionals);
+  const Eigen::Index k = Eigen::Index(fit.emulator->component_count());
+  _offset.setZero(m), _truncation.setZero(m), _factor.setZero(m, k);
+  for (std::size_t q = 0; q < _curve_rows.size(); ++q)
+  {
+    const Eigen::Index row = Eigen::Index(_curve_rows[q]);
+    _offset(row) = p.offset[q];
+    _truncation(row) = p.truncation[q];
+    for (Eigen::Index c = 0; c < k; ++c)
+      _factor(row, c) = p.factor[q][std::size_t(c)];
+  }
+  for (const Parameter& par : fit.parameters)
+    _priors += par.prior;
 }
 
 std::vector<double> EmulatedLikelihood::inputs(const std::vector<double>& theta) const
@@ -245,7 +258,8 @@ std::vector<double> EmulatedLikelihood::inputs(const std::vector<double>& theta)
   return x;
 }
 
-EmulatedLikelihood::Parts EmulatedLikelihood::parts(const std::vector<double>& theta) const
+EmulatedLikelihood::Parts EmulatedLikelihood::parts(const std::vector<double>& theta,
+                                                     bool derivatives) const
 {
   const emulator::Emulator& em = *_fit.emulator;
   const std::vector<double> x = inputs(theta);
@@ -258,31 +272,32 @@ EmulatedLikelihood::Parts EmulatedLikelihood::parts(const std::vector<double>& t
       const Parameter& p = _fit.parameters[std::size_t(j)];
       chain[std::size_t(j)] = {i, p.log ? x[i] : 1.0};
     }
-  const emulator::Projection pr = em.project(_functionals, x);
-  const Eigen::Index k = Eigen::Index(pr.components.size());
+  const std::vector<emulator::Value> w = em.components(x, derivatives);
+  const Eigen::Index k = Eigen::Index(w.size());
   Parts s;
-  s.mean.resize(m), s.d = _sd2, s.gradient.setZero(m, n), s.F.setZero(m, k);
-  s.dd.setZero(m, n), s.v.resize(k), s.dv.resize(k, n);
+  s.v.resize(k), s.dv.setZero(k, n);
+  Eigen::VectorXd mean_w(k);
+  Eigen::MatrixXd dw = Eigen::MatrixXd::Zero(k, n);
   for (Eigen::Index c = 0; c < k; ++c)
   {
-    s.v(c) = pr.components[std::size_t(c)].variance;
-    for (Eigen::Index j = 0; j < n; ++j)
-      s.dv(c, j) = pr.components[std::size_t(c)].variance_gradient[chain[std::size_t(j)].first]
-                   * chain[std::size_t(j)].second;
+    const emulator::Value& wc = w[std::size_t(c)];
+    mean_w(c) = wc.mean, s.v(c) = wc.variance;
+    if (derivatives)
+      for (Eigen::Index j = 0; j < n; ++j)
+      {
+        const auto [input, dx] = chain[std::size_t(j)];
+        dw(c, j) = wc.gradient[input] * dx;
+        s.dv(c, j) = wc.variance_gradient[input] * dx;
+      }
   }
-  for (std::size_t q = 0; q < _curve_rows.size(); ++q)
-  {
-    const Eigen::Index row = Eigen::Index(_curve_rows[q]);
-    s.mean(row) = pr.mean[q];
-    s.d(row) += pr.truncation[q];
-    for (Eigen::Index c = 0; c < k; ++c)
-      s.F(row, c) = pr.factor[q][std::size_t(c)];
-    for (Eigen::Index j = 0; j < n; ++j)
-      s.gradient(row, j) = pr.gradient[q][chain[std::size_t(j)].first] * chain[std::size_t(j)].second;
-  }
+  s.mean = _offset + _factor * mean_w;
+  s.gradient = _factor * dw;
+  s.F = _factor;
+  s.d = _sd2 + _truncation;
+  s.dd.setZero(m, n);
   for (const auto& [r, key] : _reading_rows)
   {
-    const emulator::Value v = em.reading(key, x);
+    const emulator::Value v = em.reading(key, x, derivatives);
     const Eigen::Index row = Eigen::Index(r);
     s.mean(row) = v.mean;
     s.d(row) += v.variance;
@@ -299,7 +314,7 @@ EmulatedLikelihood::Parts EmulatedLikelihood::parts(const std::vector<double>& t
 EmulatedLikelihood::Evaluation EmulatedLikelihood::evaluate(const std::vector<double>& theta,
                                                             bool jacobian) const
 {
-  const Parts s = parts(theta);
+  const Parts s = parts(theta, jacobian);
   const Eigen::Index m = _y.size(), n = Eigen::Index(theta.size());
   const Eigen::MatrixXd S = Eigen::MatrixXd(s.d.asDiagonal())
                             + s.F * s.v.asDiagonal() * s.F.transpose();
@@ -356,7 +371,7 @@ double EmulatedLikelihood::log_posterior(const std::vector<double>& theta) const
     if (!(theta[i] >= p.variable(p.lower) && theta[i] <= p.variable(p.upper)))
       return -std::numeric_limits<double>::infinity();
   }
-  const Parts s = parts(theta);
+  const Parts s = parts(theta, false);
   // S = D + F V F^T: with W = D^-1/2 F V^1/2, B = I + W^T W,
   // e^T S^-1 e = |D^-1/2 e|^2 - b^T B^-1 b (b = W^T D^-1/2 e) and
   // log det S = log det D + log det B.

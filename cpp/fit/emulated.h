@@ -78,8 +78,8 @@ public:
   std::vector<double> inputs(const std::vector<double>& theta) const;
 
 private:
-  /// The emulator's mean, its gradient (points x parameters) and the
-  /// covariance's parts at theta: factor F (points x components), the
+  /// The emulator's mean, its gradient (points x parameters; zero without
+  /// `derivatives`) and the covariance's parts at theta: factor F (points x components), the
   /// components' variances v and their gradients, a diagonal d (with the
   /// readings' noise) and its gradient.
   struct Parts
@@ -87,11 +87,14 @@ private:
     Eigen::VectorXd mean, v, d;
     Eigen::MatrixXd gradient, F, dv, dd; // dv: components x parameters; dd: points x parameters
   };
-  Parts parts(const std::vector<double>& theta) const;
+  Parts parts(const std::vector<double>& theta, bool derivatives = true) const;
 
   const Fit& _fit;
-  std::vector<emulator::Functional> _functionals; ///< the curve and profile points
-  std::vector<std::size_t> _curve_rows;           ///< their rows among the points
+  std::vector<std::size_t> _curve_rows; ///< the curve and profile points' rows
+  /// Their fixed part: mean offset, factor (points x components, zero rows
+  /// for the readings), truncation (zero for the readings).
+  Eigen::VectorXd _offset, _truncation;
+  Eigen::MatrixXd _factor;
   std::vector<std::pair<std::size_t, std::string>> _reading_rows; ///< row, reading
   Eigen::VectorXd _y, _sd2;
   std::size_t _priors = 0;
