@@ -9,7 +9,8 @@ DATA.json and HELD.json are training sets (python/nct/training.py, as
 cases/emulator-faithful-section/run writes them). `validate` trains on
 DATA (its first N runs with --first) and prints the held-out report
 (python/nct/validation.py) as Markdown; `sizes` does so for emulators
-trained on the first n runs for each n, as a table (and a plot).
+trained on the first n runs of a nested space-filling order of DATA
+(farthest-point) for each n, as a table (and a plot).
 """
 import argparse
 import pathlib
@@ -19,7 +20,6 @@ import warnings
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "python"))
 from nct import emulator, training, validation  # noqa: E402
-from nct.markdown import table  # noqa: E402
 
 
 def main():
@@ -42,9 +42,7 @@ def main():
             warnings.simplefilter("ignore")
             rows = validation.size_curve(data, training.read(a.held),
                                          [int(n) for n in a.sizes.split(",")], a.share, a.seed)
-        print(table(["training runs", "apex RMS [um]", "profiles RMS [um]", "within +-2"],
-                    [[r["runs"], f"{r['apex_rms_um']:.2f}", f"{r['profiles_rms_um']:.2f}",
-                      f"{100 * r['curves_within_2']:.0f} %"] for r in rows]))
+        print(validation.size_markdown(rows))
         if a.plot:
             validation.plot_size_curve(rows, a.plot)
         return

@@ -78,7 +78,7 @@ def _gp(X, y, seed, restarts):
     d = X.shape[1]
     kernel = (ConstantKernel(1.0, (1e-3, 1e3))
               * Matern(length_scale=np.full(d, 0.5), length_scale_bounds=(1e-2, 1e2), nu=2.5)
-              + WhiteKernel(1e-6, (1e-12, 1e-1)))
+              + WhiteKernel(1e-6, (1e-12, 1.0)))
     gp = GaussianProcessRegressor(kernel, normalize_y=True, n_restarts_optimizer=restarts,
                                   random_state=seed)
     return gp.fit(X, y)
