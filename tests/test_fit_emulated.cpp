@@ -7,7 +7,10 @@
 // and quantiles of a correlated Gaussian.
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "fit/emulated.h"
 #include "fit/mcmc.h"
@@ -150,4 +153,42 @@ TEST(FitEmulated, SamplerRecoversACorrelatedGaussian)
   EXPECT_LT(chain.acceptance, 0.9);
   for (double tau : chain.autocorrelation)
     EXPECT_LT(tau, 150.0);
+}
+
+// A measured discrepancy: its mean moves the curve points' model by its
+// value (not the reading's), its covariance joins the likelihood (the
+// Jacobian and the Woodbury form still exact).
+TEST(FitEmulated, DiscrepancyJoinsTheLikelihood)
+{
+  Fit fit = fixture_fit();
+  std::size_t outputs = 0;
+  for (const auto& [name, size] : fit.emulator->blocks())
+    outputs += size;
+  const auto file = std::filesystem::temp_directory_path() / "nct_test_discrepancy.json";
+  {
+    nlohmann::json d = {{"format", "nct-discrepancy-1"},
+                        {"mean_mm", std::vector<double>(outputs, 0.001)},
+                        {"factor_mm", std::vector<std::vector<double>>(outputs, {0.002, -0.001})}};
+    std::ofstream(file) << d.dump();
+  }
+  const nct::fit::EmulatedLikelihood plain(fit);
+  fit.discrepancy_file = file;
+  const nct::fit::EmulatedLikelihood with(fit);
+  const std::vector<double> theta = {0.1, 19.0};
+  const auto a = plain.evaluate(theta, false), b = with.evaluate(theta, true);
+  const Eigen::Index m = a.model.size();
+  for (Eigen::Index i = 0; i + 1 < m; ++i) // the curve and profile points
+    EXPECT_NEAR(b.model(i) - a.model(i), 0.001, 1e-12);
+  EXPECT_NEAR(b.model(m - 1), a.model(m - 1), 1e-15); // the reading
+  EXPECT_NEAR(b.model_sd(0) * b.model_sd(0) - a.model_sd(0) * a.model_sd(0), 5e-6, 1e-12);
+  EXPECT_NEAR(with.log_posterior(theta), -0.5 * b.r.squaredNorm(), 1e-9 * b.r.squaredNorm());
+  for (std::size_t j = 0; j < theta.size(); ++j)
+  {
+    auto up = theta, down = theta;
+    const double h = 1e-4 * std::max(1.0, std::abs(theta[j]));
+    up[j] += h, down[j] -= h;
+    const Eigen::VectorXd fd = (with.evaluate(up, false).r - with.evaluate(down, false).r) / (2 * h);
+    EXPECT_LT((b.jacobian.col(Eigen::Index(j)) - fd).norm(), 1e-5 * fd.norm()) << j;
+  }
+  std::filesystem::remove(file);
 }

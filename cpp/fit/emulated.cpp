@@ -88,6 +88,46 @@ emulator::Functional functional(const emulator::Emulator& e, const Observation& 
   return {};
 }
 
+/// A model discrepancy per curve output (python/nct/discrepancy.py):
+/// mean [mm] and a factor [mm] whose outer product is its covariance.
+struct Discrepancy
+{
+  std::vector<double> mean;
+  std::vector<std::vector<double>> factor;
+};
+
+/// The fit's discrepancy file, if any, checked against its emulator.
+Discrepancy read_discrepancy(const Fit& fit)
+{
+  Discrepancy d;
+  if (fit.discrepancy_file.empty())
+    return d;
+  const std::string where = fit.discrepancy_file.string() + ": ";
+  try
+  {
+    const auto j = nlohmann::json::parse(jobs::read_text(fit.discrepancy_file));
+    if (j.at("format") != "nct-discrepancy-1")
+      throw std::invalid_argument("format is not nct-discrepancy-1");
+    j.at("mean_mm").get_to(d.mean);
+    j.at("factor_mm").get_to(d.factor);
+  }
+  catch (const std::exception& e)
+  {
+    throw scene::Error(where + "not a discrepancy file: " + e.what());
+  }
+  std::size_t outputs = 0;
+  for (const auto& [name, size] : fit.emulator->blocks())
+    outputs += size;
+  if (d.mean.size() != outputs || d.factor.size() != outputs
+      || (!d.factor.empty() && d.factor[0].empty()))
+    throw scene::Error(where + io::format("%zu outputs, the emulator has %zu", d.mean.size(),
+                                          outputs));
+  for (const auto& row : d.factor)
+    if (row.size() != d.factor[0].size())
+      throw scene::Error(where + "its factor's rows differ in length");
+  return d;
+}
+
 std::string join(const std::vector<std::string>& v, const std::string& between)
 {
   std::string s;
@@ -170,6 +210,7 @@ void attach_emulator(Fit& fit, const scene::Scene& scene)
                                        box(in).c_str()));
     fit.emulator_inputs.emplace_back(-1, value);
   }
+  read_discrepancy(fit); // its errors before any work
   for (std::size_t i = 0; i < fit.parameters.size(); ++i)
     if (!used.count(i))
       throw scene::Error(file + "parameter '" + fit.parameters[i].label + "' ("
@@ -236,7 +277,9 @@ EmulatedLikelihood::EmulatedLikelihood(const Fit& fit) : _fit(fit)
   _sd2 = Eigen::Map<Eigen::VectorXd>(sd2.data(), m);
   const emulator::Projection p = fit.emulator->project(functionals);
   const Eigen::Index k = Eigen::Index(fit.emulator->component_count());
-  _offset.setZero(m), _truncation.setZero(m), _factor.setZero(m, k);
+  const Discrepancy delta = read_discrepancy(fit);
+  const Eigen::Index r = Eigen::Index(delta.factor.empty() ? 0 : delta.factor[0].size());
+  _offset.setZero(m), _truncation.setZero(m), _factor.setZero(m, k + r), _delta.setZero(m);
   for (std::size_t q = 0; q < _curve_rows.size(); ++q)
   {
     const Eigen::Index row = Eigen::Index(_curve_rows[q]);
@@ -244,6 +287,16 @@ EmulatedLikelihood::EmulatedLikelihood(const Fit& fit) : _fit(fit)
     _truncation(row) = p.truncation[q];
     for (Eigen::Index c = 0; c < k; ++c)
       _factor(row, c) = p.factor[q][std::size_t(c)];
+    // The discrepancy's mean and factor at the point, by the same weights.
+    for (const auto& [o, a] : functionals[q])
+    {
+      if (delta.mean.empty())
+        break;
+      _offset(row) += a * delta.mean.at(o);
+      _delta(row) += a * delta.mean.at(o);
+      for (Eigen::Index c = 0; c < r; ++c)
+        _factor(row, k + c) += a * delta.factor.at(o)[std::size_t(c)];
+    }
   }
   for (const Parameter& par : fit.parameters)
     _priors += par.prior;
@@ -290,8 +343,14 @@ EmulatedLikelihood::Parts EmulatedLikelihood::parts(const std::vector<double>& t
         s.dv(c, j) = wc.variance_gradient[input] * dx;
       }
   }
-  s.mean = _offset + _factor * mean_w;
-  s.gradient = _factor * dw;
+  // The discrepancy's columns follow the components', each of unit variance.
+  const Eigen::Index r = _factor.cols() - k;
+  s.v.conservativeResize(k + r);
+  s.v.tail(r).setOnes();
+  s.dv.conservativeResize(k + r, n);
+  s.dv.bottomRows(r).setZero();
+  s.mean = _offset + _factor.leftCols(k) * mean_w;
+  s.gradient = _factor.leftCols(k) * dw;
   s.F = _factor;
   s.d = _sd2 + _truncation;
   s.dd.setZero(m, n);
@@ -591,7 +650,11 @@ nlohmann::json confirm(const Fit& fit, const Options& o, const EmulatedLikelihoo
     return {{"verdict", "failed"}, {"wall_s", wall},
             {"why", "the forward run at the answer did not converge: see "
                         + (o.out / "runs").string()}};
-  const std::vector<double> truth = model_values(fit, run);
+  // The run's values, with the discrepancy's mean where the fit carries one
+  // (the model it fits is the emulated one plus the discrepancy).
+  std::vector<double> truth = model_values(fit, run);
+  for (std::size_t i = 0; i < truth.size(); ++i)
+    truth[i] += l.discrepancy_mean()(Eigen::Index(i));
   const auto e = l.evaluate(outcome.theta, false);
   const std::size_t m = truth.size(), n = outcome.theta.size();
   double chi2_run = 0, largest = 0;
@@ -767,6 +830,10 @@ int run_emulated(const Fit& fit, const Options& o)
                           ? largest_correlation(outcome.covariance, theta.size())
                           : std::numeric_limits<double>::infinity();
   extra["forward_model"] = {{"emulator", fs::absolute(fit.emulator_file).string()},
+                            {"discrepancy", fit.discrepancy_file.empty()
+                                                ? nlohmann::json()
+                                                : nlohmann::json(
+                                                      fs::absolute(fit.discrepancy_file).string())},
                             {"inputs", l.inputs(theta)},
                             {"model_sd", model_sd},
                             {"log_det_residual", e.r(Eigen::Index(j))}};

@@ -74,6 +74,9 @@ public:
   /// emulator's: the Gauss-Newton step -(J^T J)^-1 J^T L^-1 (values - m).
   Eigen::VectorXd shift(const std::vector<double>& theta, const std::vector<double>& values) const;
 
+  /// The discrepancy's mean at the observation points (zero without one).
+  const Eigen::VectorXd& discrepancy_mean() const { return _delta; }
+
   /// The emulator's inputs at the fitted variables theta.
   std::vector<double> inputs(const std::vector<double>& theta) const;
 
@@ -93,7 +96,7 @@ private:
   std::vector<std::size_t> _curve_rows; ///< the curve and profile points' rows
   /// Their fixed part: mean offset, factor (points x components, zero rows
   /// for the readings), truncation (zero for the readings).
-  Eigen::VectorXd _offset, _truncation;
+  Eigen::VectorXd _offset, _truncation, _delta;
   Eigen::MatrixXd _factor;
   std::vector<std::pair<std::size_t, std::string>> _reading_rows; ///< row, reading
   Eigen::VectorXd _y, _sd2;

@@ -98,6 +98,10 @@ struct Fit
   /// every evaluation is a forward run.
   std::shared_ptr<const emulator::Emulator> emulator;
   std::filesystem::path emulator_file;
+  /// A model discrepancy measured against a more faithful model ([fit]
+  /// discrepancy; empty: none): its mean is added to the emulator's, its
+  /// covariance to the likelihood's.
+  std::filesystem::path discrepancy_file;
   /// Per emulator input: the parameter it is (its index), or -1 and its value.
   std::vector<std::pair<int, double>> emulator_inputs;
   std::string posterior = "auto"; ///< "auto" (MCMC when a |correlation| > 0.9), "mcmc", "laplace"

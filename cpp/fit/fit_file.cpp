@@ -652,6 +652,11 @@ void read_emulator_keys(const toml::table& ft, Fit& fit, io::KeyErrors& errors)
                                         "emulator file (python/nct/emulator.py's export)");
   });
   errors.attempt([&] {
+    if (ft["discrepancy"])
+      fit.discrepancy_file = io::file_path(file, "fit.discrepancy", ft["discrepancy"].node(),
+                                           "discrepancy file (nct.discrepancy's)");
+  });
+  errors.attempt([&] {
     fit.posterior = ft["posterior"].value_or(std::string("auto"));
     if (fit.posterior != "auto" && fit.posterior != "mcmc" && fit.posterior != "laplace")
       throw key_error(file, "fit.posterior", "\"auto\" (sampled where two parameters correlate "
@@ -667,7 +672,8 @@ void read_emulator_keys(const toml::table& ft, Fit& fit, io::KeyErrors& errors)
     fit.confirm = ft["confirm"].value_or(true);
   });
   if (fit.emulator_file.empty())
-    for (const char* k : {"posterior", "mcmc_walkers", "mcmc_steps", "seed", "confirm"})
+    for (const char* k : {"discrepancy", "posterior", "mcmc_walkers", "mcmc_steps", "seed",
+                          "confirm"})
       if (ft.contains(k))
         errors.add(key_error(file, std::string("fit.") + k, "only for a fit on an emulator "
                                                             "(fit.emulator)").what());
@@ -678,7 +684,7 @@ bool read_fit_table(const toml::table& ft, Fit& fit, io::KeyErrors& errors)
 {
   const fs::path& file = fit.file;
   std::set<std::string> known = {"scene", "set", "ranks", "jobs", "mpiexec", "max_iterations",
-                                 "step", "differences", "tolerance", "emulator", "posterior",
+                                 "step", "differences", "tolerance", "emulator", "discrepancy", "posterior",
                                  "mcmc_walkers", "mcmc_steps", "seed", "confirm"};
   known.insert(jobs::launcher_keys().begin(), jobs::launcher_keys().end());
   io::refuse_unknown_keys(ft, known, file, "fit.", "[fit]", errors);
