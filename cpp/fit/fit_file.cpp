@@ -671,7 +671,7 @@ void read_emulator_keys(const toml::table& ft, Fit& fit, io::KeyErrors& errors)
       throw key_error(file, "fit.confirm", "true (a forward run at the answer) or false");
     fit.confirm = ft["confirm"].value_or(true);
   });
-  if (fit.emulator_file.empty())
+  if (!ft.contains("emulator"))
     for (const char* k : {"discrepancy", "posterior", "mcmc_walkers", "mcmc_steps", "seed",
                           "confirm"})
       if (ft.contains(k))
