@@ -84,3 +84,33 @@ def write_design(path, rows, factors, digits=6):
         records.append(record)
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     write_csv(path, records, [f.label for f in factors])
+
+
+def least_sure(em, region, n, seed, candidates=4000, exclusion=0.15):
+    """A later wave's n points: where the emulator `em` (nct.emulator) is
+    least sure of the apex curve within `region` ({input: (low, high)},
+    the box's part patients occupy; inputs not named span the box).
+    Candidates are a Latin hypercube of the region; each pick is the
+    candidate whose apex variance (summed over the frames) is largest,
+    the candidates within `exclusion` of it on the unit cube dropped
+    (so that the wave spreads rather than piling where one run would
+    settle the doubt)."""
+    box = em.box
+    low = np.array([region.get(name, (lo, hi))[0] for name, lo, hi
+                    in zip(box.names, box.low, box.high)], float)
+    high = np.array([region.get(name, (lo, hi))[1] for name, lo, hi
+                     in zip(box.names, box.low, box.high)], float)
+    u = qmc.LatinHypercube(len(low), seed=np.random.default_rng(seed)).random(candidates)
+    # Across the region on each input's own scale (log where the box's is).
+    t = lambda v: np.where(box.log, np.log(np.where(box.log, v, 1.0)), v)  # noqa: E731
+    inv = lambda v: np.where(box.log, np.exp(v), v)  # noqa: E731
+    x = inv(t(low) + u * (t(high) - t(low)))
+    apex = em.sizes[0]
+    score = np.array([np.sum(em.predict(xi)["curves_var_mm2"][:apex]) for xi in x])
+    unit = box.to_unit(x)
+    picked = []
+    for _ in range(n):
+        k = int(np.argmax(score))
+        picked.append(x[k])
+        score[np.sum((unit - unit[k]) ** 2, axis=1) < exclusion ** 2] = -np.inf
+    return np.array(picked)

@@ -66,6 +66,19 @@ class Emulator(unittest.TestCase):
     def tearDownClass(cls):
         cls.dir.cleanup()
 
+    def test_next_wave_where_least_sure(self):
+        region = {"c10": (0.04, 0.10), "iop": (10.0, 25.0)}
+        points = design.least_sure(self.em, region, 5, seed=1, candidates=300)
+        self.assertEqual(points.shape, (5, 3))
+        self.assertTrue(np.all(points[:, 0] >= 0.04) and np.all(points[:, 0] <= 0.10))
+        self.assertTrue(np.all(points[:, 1] >= 10.0) and np.all(points[:, 1] <= 25.0))
+        unit = self.em.box.to_unit(points)
+        gaps = [np.linalg.norm(unit[i] - unit[j]) for i in range(5) for j in range(i)]
+        self.assertGreaterEqual(min(gaps), 0.15)
+        # The first pick is the most uncertain candidate: no other beats it.
+        var = lambda x: np.sum(self.em.predict(x)["curves_var_mm2"][:self.em.sizes[0]])  # noqa
+        self.assertGreaterEqual(var(points[0]), var(points[1]))
+
     def test_exported_equals_sklearn(self):
         for x in ([0.05, 12.0, 0.5], [0.1, 30.0, 0.62]):
             a, b = self.em.predict(x), self.exported.predict(x)
