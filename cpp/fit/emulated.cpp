@@ -701,13 +701,14 @@ nlohmann::json confirm(const Fit& fit, const Options& o, const EmulatedLikelihoo
           {"wall_s", wall}};
 }
 
-/// Where the confirming run disagrees: the fit again with forward runs,
-/// from the emulator's answer (each bound's side kept a thousandth of the
+/// Where the confirming run disagrees: the fit again with forward runs
+/// (at most fit.corrected_iterations iterations), from the emulator's answer (each bound's side kept a thousandth of the
 /// span inside), into out/corrected; its answer.
 nlohmann::json correct(const Fit& fit, const Options& o, const Outcome& outcome)
 {
   Fit forward = fit;
   forward.emulator.reset();
+  forward.max_iterations = fit.corrected_iterations;
   for (std::size_t i = 0; i < forward.parameters.size(); ++i)
   {
     Parameter& p = forward.parameters[i];

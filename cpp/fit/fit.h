@@ -109,6 +109,7 @@ struct Fit
   int steps = 1500;               ///< its steps, the first third burn-in
   int seed = 1;                   ///< its generator's seed
   bool confirm = true;            ///< an emulator fit's confirming forward run
+  int corrected_iterations = 5;   ///< the corrected fit's iterations where it disagrees
 
   /// A fit file with a [cohort] table: its patients (the fit is each one's).
   std::optional<Cohort> cohort;

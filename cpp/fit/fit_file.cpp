@@ -667,13 +667,16 @@ void read_emulator_keys(const toml::table& ft, Fit& fit, io::KeyErrors& errors)
   errors.attempt([&] { fit.steps = io::integer(ft, "fit", "mcmc_steps", 1500, 30, 1000000, file); });
   errors.attempt([&] { fit.seed = io::integer(ft, "fit", "seed", 1, 0, 2147483647, file); });
   errors.attempt([&] {
+    fit.corrected_iterations = io::integer(ft, "fit", "corrected_iterations", 5, 1, 1000, file);
+  });
+  errors.attempt([&] {
     if (auto* c = ft["confirm"].node(); c && !c->is_boolean())
       throw key_error(file, "fit.confirm", "true (a forward run at the answer) or false");
     fit.confirm = ft["confirm"].value_or(true);
   });
   if (!ft.contains("emulator"))
     for (const char* k : {"discrepancy", "posterior", "mcmc_walkers", "mcmc_steps", "seed",
-                          "confirm"})
+                          "confirm", "corrected_iterations"})
       if (ft.contains(k))
         errors.add(key_error(file, std::string("fit.") + k, "only for a fit on an emulator "
                                                             "(fit.emulator)").what());
@@ -685,7 +688,8 @@ bool read_fit_table(const toml::table& ft, Fit& fit, io::KeyErrors& errors)
   const fs::path& file = fit.file;
   std::set<std::string> known = {"scene", "set", "ranks", "jobs", "mpiexec", "max_iterations",
                                  "step", "differences", "tolerance", "emulator", "discrepancy", "posterior",
-                                 "mcmc_walkers", "mcmc_steps", "seed", "confirm"};
+                                 "mcmc_walkers", "mcmc_steps", "seed", "confirm",
+                                 "corrected_iterations"};
   known.insert(jobs::launcher_keys().begin(), jobs::launcher_keys().end());
   io::refuse_unknown_keys(ft, known, file, "fit.", "[fit]", errors);
   bool scene_read = errors.attempt(
