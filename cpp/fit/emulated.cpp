@@ -734,6 +734,78 @@ nlohmann::json correct(const Fit& fit, const Options& o, const Outcome& outcome)
   return out;
 }
 
+/// Where Levenberg-Marquardt ends on the likelihood, from theta (updated).
+struct Minimum
+{
+  ceres::Solver::Summary summary;
+  int iterations = 0;
+  std::vector<int> held; ///< variables held at a bound
+  std::vector<double> covariance;
+  bool identifiable = true;
+};
+
+Minimum minimise(const Fit& fit, const EmulatedLikelihood& l, std::vector<double>& theta,
+                 const fs::path& out)
+{
+  FLAGS_minloglevel = 3;
+  FLAGS_logtostderr = true;
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  EmulatedCost cost(l, theta.size());
+  problem.AddResidualBlock(&cost, nullptr, theta.data());
+  for (std::size_t i = 0; i < theta.size(); ++i)
+  {
+    const Parameter& p = fit.parameters[i];
+    problem.SetParameterLowerBound(theta.data(), int(i), p.variable(p.lower));
+    problem.SetParameterUpperBound(theta.data(), int(i), p.variable(p.upper));
+  }
+  ceres::Solver::Options options = solver_options(fit);
+  Progress progress(fit, nullptr, nullptr, theta.data(), out);
+  options.callbacks.push_back(&progress);
+  Minimum m;
+  ceres::Solve(options, &problem, &m.summary);
+  m.iterations = int(m.summary.iterations.size()) - 1;
+  // Ceres projects each step onto the bounds: along a valley that ends at
+  // a bound its steps shrink to nothing. The variables at a bound whose
+  // gradient pushes outwards are held there and the others solved again
+  // (an active set).
+  m.held = pushed_to_bounds(fit, l, theta);
+  if (!m.held.empty() && m.held.size() < theta.size())
+  {
+    problem.SetManifold(theta.data(), new ceres::SubsetManifold(int(theta.size()), m.held));
+    ceres::Solve(options, &problem, &m.summary);
+    m.iterations += int(m.summary.iterations.size()) - 1;
+  }
+  if (std::isfinite(m.summary.final_cost) && m.summary.termination_type != ceres::FAILURE)
+    m.covariance = covariance_at(problem, theta.data(), theta.size(), m.identifiable);
+  return m;
+}
+
+/// The answer's values at theta: the model, each point's residual
+/// standardised by the noise and the emulator's SD, chi2 = e^T S^-1 e with
+/// the priors.
+Outcome answer_at(const Fit& fit, const EmulatedLikelihood& l, const std::vector<double>& theta)
+{
+  Outcome outcome;
+  outcome.theta = theta;
+  const auto e = l.evaluate(theta, false);
+  outcome.model.assign(e.model.data(), e.model.data() + e.model.size());
+  std::size_t j = 0;
+  for (const Observation& ob : fit.observations)
+    for (std::size_t i = 0; i < ob.value.size(); ++i, ++j)
+      outcome.residuals.push_back((outcome.model[j] - ob.value[i])
+                                  / std::hypot(ob.sd[i], e.model_sd(Eigen::Index(j))));
+  double chi2 = e.chi2;
+  for (Eigen::Index r = Eigen::Index(j) + 1; r < e.r.size(); ++r) // the priors
+  {
+    outcome.residuals.push_back(e.r(r));
+    chi2 += e.r(r) * e.r(r);
+  }
+  outcome.chi2 = chi2;
+  return outcome;
+}
+
 } // namespace
 
 int run_emulated(const Fit& fit, const Options& o)
@@ -760,39 +832,11 @@ int run_emulated(const Fit& fit, const Options& o)
   io::write_atomic(o.out / "fit.toml", jobs::read_text(fit.file));
   jobs::catch_interrupts();
 
-  FLAGS_minloglevel = 3;
-  FLAGS_logtostderr = true;
   std::vector<double> theta;
   for (const Parameter& p : fit.parameters)
     theta.push_back(p.variable(p.start));
-  ceres::Problem::Options problem_options;
-  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  EmulatedCost cost(l, theta.size());
-  problem.AddResidualBlock(&cost, nullptr, theta.data());
-  for (std::size_t i = 0; i < theta.size(); ++i)
-  {
-    const Parameter& p = fit.parameters[i];
-    problem.SetParameterLowerBound(theta.data(), int(i), p.variable(p.lower));
-    problem.SetParameterUpperBound(theta.data(), int(i), p.variable(p.upper));
-  }
-  ceres::Solver::Options options = solver_options(fit);
-  Progress progress(fit, nullptr, nullptr, theta.data(), o.out);
-  options.callbacks.push_back(&progress);
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
-  int iterations = int(summary.iterations.size()) - 1;
-  // Ceres projects each step onto the bounds: along a valley that ends at
-  // a bound its steps shrink to nothing. The variables at a bound whose
-  // gradient pushes outwards are held there and the others solved again
-  // (an active set).
-  const std::vector<int> held = pushed_to_bounds(fit, l, theta);
-  if (!held.empty() && held.size() < theta.size())
-  {
-    problem.SetManifold(theta.data(), new ceres::SubsetManifold(int(theta.size()), held));
-    ceres::Solve(options, &problem, &summary);
-    iterations += int(summary.iterations.size()) - 1;
-  }
+  const Minimum minimum = minimise(fit, l, theta, o.out);
+  const ceres::Solver::Summary& summary = minimum.summary;
   if (jobs::interrupted())
     return 130;
   if (summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost))
@@ -801,24 +845,12 @@ int run_emulated(const Fit& fit, const Options& o)
     return 3;
   }
 
-  Outcome outcome;
-  outcome.theta = theta;
+  Outcome outcome = answer_at(fit, l, theta);
   const auto e = l.evaluate(theta, false);
-  outcome.model.assign(e.model.data(), e.model.data() + e.model.size());
-  // Each point's residual standardised by the noise and the emulator's SD.
-  std::size_t j = 0;
-  for (const Observation& ob : fit.observations)
-    for (std::size_t i = 0; i < ob.value.size(); ++i, ++j)
-      outcome.residuals.push_back((outcome.model[j] - ob.value[i])
-                                  / std::hypot(ob.sd[i], e.model_sd(Eigen::Index(j))));
-  double chi2 = e.chi2;
-  for (Eigen::Index r = Eigen::Index(j) + 1; r < e.r.size(); ++r)
-  {
-    outcome.residuals.push_back(e.r(r));
-    chi2 += e.r(r) * e.r(r);
-  }
-  outcome.chi2 = chi2;
-  outcome.covariance = covariance_at(problem, theta.data(), theta.size(), outcome.identifiable);
+  const std::vector<int>& held = minimum.held;
+  const int iterations = minimum.iterations;
+  outcome.covariance = minimum.covariance;
+  outcome.identifiable = minimum.identifiable;
   outcome.status = summary.termination_type == ceres::CONVERGENCE ? "converged" : "max_iterations";
   outcome.message = summary.message;
   outcome.iterations = iterations;
@@ -837,7 +869,7 @@ int run_emulated(const Fit& fit, const Options& o)
                                                       fs::absolute(fit.discrepancy_file).string())},
                             {"inputs", l.inputs(theta)},
                             {"model_sd", model_sd},
-                            {"log_det_residual", e.r(Eigen::Index(j))}};
+                            {"log_det_residual", e.r(Eigen::Index(outcome.model.size()))}};
   extra["laplace"] = {{"largest_correlation", std::isfinite(most) ? nlohmann::json(most)
                                                                   : nlohmann::json()},
                       {"held_at_bounds", held.size()}};
