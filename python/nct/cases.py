@@ -21,7 +21,9 @@ import sys
 from .folders import Fit, Run, Study
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-NCT = ROOT / "build" / "nct"
+# The nct that cases run: build/nct, or NCT_PROGRAM's (a copy, so that a
+# rebuild while a long case runs does not pull the program from under it).
+NCT = pathlib.Path(os.environ.get("NCT_PROGRAM", ROOT / "build" / "nct"))
 
 
 def environment():
