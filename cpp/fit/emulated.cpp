@@ -11,7 +11,6 @@
 #include <sstream>
 
 #include <ceres/ceres.h>
-#include <glog/logging.h>
 #include <nlohmann/json.hpp>
 
 #include "fit/forward.h"
@@ -747,19 +746,9 @@ struct Minimum
 Minimum minimise(const Fit& fit, const EmulatedLikelihood& l, std::vector<double>& theta,
                  const fs::path& out)
 {
-  FLAGS_minloglevel = 3;
-  FLAGS_logtostderr = true;
-  ceres::Problem::Options problem_options;
-  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
+  ceres::Problem problem(problem_options());
   EmulatedCost cost(l, theta.size());
-  problem.AddResidualBlock(&cost, nullptr, theta.data());
-  for (std::size_t i = 0; i < theta.size(); ++i)
-  {
-    const Parameter& p = fit.parameters[i];
-    problem.SetParameterLowerBound(theta.data(), int(i), p.variable(p.lower));
-    problem.SetParameterUpperBound(theta.data(), int(i), p.variable(p.upper));
-  }
+  add_bounded(problem, fit, cost, theta);
   ceres::Solver::Options options = solver_options(fit);
   Progress progress(fit, nullptr, nullptr, theta.data(), out);
   options.callbacks.push_back(&progress);

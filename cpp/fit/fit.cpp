@@ -8,7 +8,6 @@
 #include <iostream>
 
 #include <ceres/ceres.h>
-#include <glog/logging.h>
 
 #include "fit/cost.h"
 #include "fit/emulated.h"
@@ -108,20 +107,9 @@ int run(const Fit& fit, const Options& o)
   }
   io::write_atomic(o.out / "fit.toml", jobs::read_text(fit.file));
 
-  // Ceres' own log (glog) only for fatal errors: the fit reports itself.
-  FLAGS_minloglevel = 3;
-  FLAGS_logtostderr = true;
-  ceres::Problem::Options problem_options;
-  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
+  ceres::Problem problem(problem_options());
   Cost cost(fit, forward, o.jobs > 0 ? o.jobs : fit.jobs);
-  problem.AddResidualBlock(&cost, nullptr, theta.data());
-  for (std::size_t i = 0; i < theta.size(); ++i)
-  {
-    const Parameter& p = fit.parameters[i];
-    problem.SetParameterLowerBound(theta.data(), int(i), p.variable(p.lower));
-    problem.SetParameterUpperBound(theta.data(), int(i), p.variable(p.upper));
-  }
+  add_bounded(problem, fit, cost, theta);
   ceres::Solver::Options options = solver_options(fit);
   Progress progress(fit, &forward, &cost, theta.data(), o.out);
   options.callbacks.push_back(&progress);

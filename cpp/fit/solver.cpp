@@ -3,11 +3,34 @@
 
 #include <algorithm>
 
+#include <glog/logging.h>
+
 #include "io/format.h"
 
 namespace nct::fit
 {
 using io::nan;
+
+ceres::Problem::Options problem_options()
+{
+  FLAGS_minloglevel = 3;
+  FLAGS_logtostderr = true;
+  ceres::Problem::Options options;
+  options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  return options;
+}
+
+void add_bounded(ceres::Problem& problem, const Fit& fit, ceres::CostFunction& cost,
+                 std::vector<double>& theta)
+{
+  problem.AddResidualBlock(&cost, nullptr, theta.data());
+  for (std::size_t i = 0; i < theta.size(); ++i)
+  {
+    const Parameter& p = fit.parameters[i];
+    problem.SetParameterLowerBound(theta.data(), int(i), p.variable(p.lower));
+    problem.SetParameterUpperBound(theta.data(), int(i), p.variable(p.upper));
+  }
+}
 
 /// Levenberg-Marquardt with the fit's limits, Ceres' own log silent.
 ceres::Solver::Options solver_options(const Fit& fit)

@@ -12,6 +12,14 @@
 namespace nct::fit
 {
 
+/// A problem that leaves its cost to its owner, Ceres' own log (glog)
+/// silent but for fatal errors: the fit reports itself.
+ceres::Problem::Options problem_options();
+
+/// The fit's cost on the variables theta, each inside its parameter's bounds.
+void add_bounded(ceres::Problem& problem, const Fit& fit, ceres::CostFunction& cost,
+                 std::vector<double>& theta);
+
 /// Levenberg-Marquardt with the fit's limits, Ceres' own log silent.
 ceres::Solver::Options solver_options(const Fit& fit);
 
