@@ -14,6 +14,7 @@
 #include <dolfinx/la/petsc.h>
 
 #include "helpers.h"
+#include "jacobian_check.h"
 #include "run/air_block.h"
 #include "run/model.h"
 #include "run/solid_block.h"
@@ -21,13 +22,7 @@
 namespace
 {
 
-/// A smooth pseudo-random number in [-1, 1] of a place and a seed (the
-/// same on every rank).
-double wiggle(const double* x, double seed)
-{
-  const double s = std::sin(12.9898 * x[0] + 78.233 * x[1] + 37.719 * x[2] + seed) * 43758.5453;
-  return 2 * (s - std::floor(s)) - 1;
-}
+using nct::test::wiggle;
 
 /// Fill the coupled unknowns' functions with a state: the solid and the
 /// mesh displaced by `scale` times a wiggle, the air blowing outwards and
@@ -60,32 +55,7 @@ void set_state(nct::Model& f, nct::solid::Problem& solid, double scale, double s
   f.coupling->coupled.unknowns().pack();
 }
 
-double norm(const dolfinx::la::Vector<double>& v)
-{
-  const std::int32_t n = v.map()->size_local();
-  double s = 0;
-  for (std::int32_t i = 0; i < n; ++i)
-    s += v.array()[i] * v.array()[i];
-  MPI_Allreduce(MPI_IN_PLACE, &s, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-  return std::sqrt(s);
-}
-
-/// The coupled Jacobian J against central differences of the residual R
-/// in a direction d: per column field c (d restricted to it, the last
-/// "c" the whole d) and row field r, |(R(x + e d) - R(x - e d)) / 2e - J d|,
-/// the differences' own norm |(R(x + e d) - R(x - e d)) / 2e| and |J d|
-/// over the rows of r, for e = eps and eps / 2.
-struct JacobianCheck
-{
-  std::vector<std::string> fields;
-  /// [c][r][k]: the error and the differences' norm at e = eps / 2^k; |J d|.
-  std::vector<std::vector<std::array<double, 2>>> error, differences;
-  std::vector<std::vector<double>> Jd;
-  /// The whole direction's relative error |error| / |J d| at eps, eps / 2.
-  std::array<double, 2> relative;
-};
-
-JacobianCheck check_jacobian(bool shape_derivative, double eps)
+nct::test::JacobianCheck check_jacobian(bool shape_derivative, double eps)
 {
   auto s = nct::read(
       MPI_COMM_WORLD, std::filesystem::path(NCT_SOURCE_DIR) / "tests/scenes/fsi_coarse.toml",
@@ -119,101 +89,11 @@ JacobianCheck check_jacobian(bool shape_derivative, double eps)
 
   auto system = f.coupling->coupled.system(nullptr);
   dolfinx::la::petsc::Matrix A(f.coupling->coupled.create_matrix(), false);
-  system.jacobian(A.mat());
-  const std::size_t n = unknowns.fields();
-  JacobianCheck out;
-  for (std::size_t c = 0; c < n; ++c)
-    out.fields.push_back(unknowns.field(c).name);
-  // The rows of field r of v, as a vector of its own.
-  auto rows = [&](const dolfinx::la::Vector<double>& v, std::size_t r)
-  {
-    dolfinx::la::Vector<double> part(v.map(), 1);
-    std::vector<double> block(unknowns.owned(r));
-    unknowns.extract(r, v, block);
-    unknowns.insert(r, block, part);
-    return norm(part);
-  };
-  for (std::size_t c = 0; c <= n; ++c)
-  {
-    dolfinx::la::Vector<double> dc(d.map(), 1);
-    for (std::size_t f2 = 0; f2 < n; ++f2)
-      if (c == n || f2 == c)
-      {
-        std::vector<double> block(unknowns.owned(f2));
-        unknowns.extract(f2, d, block);
-        unknowns.insert(f2, block, dc);
-      }
-    dc.scatter_fwd();
-    dolfinx::la::Vector<double> Jd(d.map(), 1), r_plus(d.map(), 1), r_minus(d.map(), 1);
-    Vec d_petsc = dolfinx::la::petsc::create_vector_wrap(dc);
-    Vec Jd_petsc = dolfinx::la::petsc::create_vector_wrap(Jd);
-    MatMult(A.mat(), d_petsc, Jd_petsc);
-    VecDestroy(&d_petsc);
-    VecDestroy(&Jd_petsc);
-    out.error.emplace_back(n);
-    out.differences.emplace_back(n);
-    out.Jd.emplace_back(n);
-    for (std::size_t r = 0; r < n; ++r)
-      out.Jd[c][r] = rows(Jd, r);
-    std::vector<double> g;
-    for (int k = 0; k < 2; ++k)
-    {
-      const double e = eps / (1 << k);
-      for (auto [sign, r] : {std::pair{1.0, &r_plus}, std::pair{-1.0, &r_minus}})
-      {
-        auto x = system.x->mutable_array();
-        for (std::size_t i = 0; i < x.size(); ++i)
-          x[i] = x0.array()[i] + sign * e * dc.array()[i];
-        system.residual(*r, g);
-      }
-      dolfinx::la::Vector<double> diff(d.map(), 1), fd(d.map(), 1);
-      for (std::size_t i = 0; i < diff.array().size(); ++i)
-      {
-        fd.mutable_array()[i] = (r_plus.array()[i] - r_minus.array()[i]) / (2 * e);
-        diff.mutable_array()[i] = fd.array()[i] - Jd.array()[i];
-      }
-      for (std::size_t r = 0; r < n; ++r)
-      {
-        out.error[c][r][k] = rows(diff, r);
-        out.differences[c][r][k] = rows(fd, r);
-      }
-      if (c == n)
-        out.relative[k] = norm(diff) / norm(Jd);
-    }
-  }
-  std::printf("coupled Jacobian (%s shape derivative), %lld unknowns, %zu interface nodes, "
-              "e = %g: relative error of the whole %.3e (%.3e at e / 2, ratio %.2f)\n",
-              shape_derivative ? "exact" : "no", (long long)unknowns.size_global(),
-              f.coupling->coupled.interface_nodes(), eps, out.relative[0], out.relative[1],
-              out.relative[0] / out.relative[1]);
-  for (std::size_t c = 0; c < n; ++c)
-    for (std::size_t r = 0; r < n; ++r)
-      std::printf("  rows %-11s columns %-11s |J d| %.3e  differences %.3e  error %.3e, "
-                  "%.3e at e / 2\n",
-                  out.fields[r].c_str(), out.fields[c].c_str(), out.Jd[c][r],
-                  out.differences[c][r][1], out.error[c][r][0], out.error[c][r][1]);
-  return out;
-}
-
-/// The blocks (rows, columns) whose error exceeds 1e-5 of the
-/// differences' own norm there, every block compared, a zero one too:
-/// a block missing from J (|J d| = 0 where the differences are not)
-/// fails. The floor, 1e-9 of the largest block's differences, is the
-/// round-off of the differences (about 1e-16 |R| / e) in a block J
-/// rightly leaves empty.
-std::vector<std::string> wrong_blocks(const JacobianCheck& check)
-{
-  const std::size_t n = check.fields.size();
-  double largest = 0;
-  for (std::size_t c = 0; c < n; ++c)
-    for (std::size_t r = 0; r < n; ++r)
-      largest = std::max(largest, check.differences[c][r][1]);
-  std::vector<std::string> wrong;
-  for (std::size_t c = 0; c < n; ++c)
-    for (std::size_t r = 0; r < n; ++r)
-      if (check.error[c][r][1] > 1e-5 * check.differences[c][r][1] + 1e-9 * largest)
-        wrong.push_back(check.fields[r] + "/" + check.fields[c]);
-  return wrong;
+  return nct::test::check_blocks(
+      system, unknowns, A.mat(), d, x0, eps,
+      std::string("coupled Jacobian (") + (shape_derivative ? "exact" : "no")
+          + " shape derivative), " + std::to_string(f.coupling->coupled.interface_nodes())
+          + " interface nodes");
 }
 
 } // namespace
@@ -228,14 +108,14 @@ TEST(Fsi, JacobianMatchesDifferences)
   const auto exact = check_jacobian(true, 1e-2);
   EXPECT_LT(exact.relative[1], 1e-6);
   EXPECT_GT(exact.relative[0] / exact.relative[1], 3.5); // second order: 4
-  EXPECT_EQ(wrong_blocks(exact), std::vector<std::string>{});
+  EXPECT_EQ(nct::test::wrong_blocks(exact), std::vector<std::string>{});
   // Without the shape derivative, the air's rows miss their dependence on
   // the mesh motion (and so do the solid's, through the moved reaction):
   // the block comparison finds those blocks, though J holds nothing there.
   const auto approximate = check_jacobian(false, 1e-2);
   const std::size_t air = 1, mesh = 2;
   EXPECT_GT(approximate.error[mesh][air][1], 0.9 * exact.Jd[mesh][air]);
-  const auto wrong = wrong_blocks(approximate);
+  const auto wrong = nct::test::wrong_blocks(approximate);
   std::printf("without the shape derivative, the blocks found wrong:");
   for (const auto& b : wrong)
     std::printf(" %s", b.c_str());

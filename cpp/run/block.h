@@ -12,6 +12,7 @@
 #include "eye/geometry.h"
 #include "io/checkpoint.h"
 #include "io/output.h"
+#include "humor_flow/flow.h"
 #include "meshio/model.h"
 #include "solid/problem.h"
 
@@ -30,6 +31,9 @@ struct MeshSetup
   std::vector<std::array<double, 3>> probes;
   std::vector<std::string> probe_names;
   std::vector<std::string> cavity_names; ///< one per entry of boundaries.cavities
+  /// The humors' mesh (cavity.humor_inertia = "flow") and its groups.
+  std::optional<meshio::Tagged> humor;
+  humor_flow::Boundaries humor_boundaries;
 };
 
 /// The air's mesh: the air domain meshed with the idealised eye (or in

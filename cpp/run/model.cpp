@@ -68,7 +68,7 @@ void count_cells(MPI_Comm comm, const meshio::Model& whole,
 MeshSetup eye_setup(meshio::Tagged mesh, const eye::Geometry& g, const eye::Derived& d,
                     section::Dimension dimension)
 {
-  MeshSetup m{std::move(mesh), {}, {}, {}, {}, {}, {}, {}};
+  MeshSetup m{std::move(mesh), {}, {}, {}, {}, {}, {}, {}, {}, {}};
   for (auto& [name, tag] : m.mesh.groups.volumes)
     m.parts[tag] = name;
   const auto& gs = m.mesh.groups;
@@ -187,10 +187,25 @@ std::pair<std::optional<MeshSetup>, std::optional<AirMesh>> file_meshes(MPI_Comm
 
   meshio::Model whole = in.built.file_mesh->extract(comm, s.mesh.size_max);
   const auto fluids = s.fluid_parts();
-  std::vector<std::int32_t> fluid_tags, solid_tags;
+  const auto& humors = s.solid.cavity.humor_groups;
+  std::vector<std::int32_t> fluid_tags, solid_tags, humor_tags;
   for (auto& [name, tag] : groups.volumes)
-    (std::find(fluids.begin(), fluids.end(), name) != fluids.end() ? fluid_tags : solid_tags)
+    (std::find(fluids.begin(), fluids.end(), name) != fluids.end()   ? fluid_tags
+     : std::find(humors.begin(), humors.end(), name) != humors.end() ? humor_tags
+                                                                     : solid_tags)
         .push_back(tag);
+  // The humor's mesh, conforming to the cavity's wall (cavity.humor_inertia = "flow").
+  std::optional<meshio::Tagged> humor;
+  if (!humor_tags.empty())
+  {
+    humor = meshio::distribute(comm, meshio::keep(whole, humor_tags));
+    whole = meshio::keep(whole, [&]
+                         {
+                           std::vector<std::int32_t> rest = solid_tags;
+                           rest.insert(rest.end(), fluid_tags.begin(), fluid_tags.end());
+                           return rest;
+                         }());
+  }
   std::optional<AirMesh> fluid;
   if (!fluid_tags.empty())
   {
@@ -216,9 +231,11 @@ std::pair<std::optional<MeshSetup>, std::optional<AirMesh>> file_meshes(MPI_Comm
     if (solid_tags.empty())
       return {std::nullopt, std::move(fluid)}; // the fluid alone
   }
-  MeshSetup m{meshio::distribute(comm, whole), {}, b, {}, {}, {}, {}, {}};
+  MeshSetup m{meshio::distribute(comm, whole), {}, b, {}, {}, {}, {}, {}, std::move(humor), {}};
   if (!b.cavities.empty())
     m.cavity_names = {"cavity"};
+  if (m.humor)
+    m.humor_boundaries = {{humor_tags}, {tags(bs.cavity_wall)}, tags(bs.axis), tags(bs.symmetry)};
   for (auto& [name, tag] : groups.volumes)
     if (std::find(solid_tags.begin(), solid_tags.end(), tag) != solid_tags.end())
       m.parts[tag] = name;
@@ -384,7 +401,7 @@ Model make_model(MPI_Comm comm, const Input& in)
     MeshSetup& m = *solid_mesh;
     if (s.solid.support.springs)
       m.boundaries.support = solid::Support{s.solid.support.stiffness, s.solid.support.damping};
-    if (s.solid.cavity.humor_inertia)
+    if (s.solid.cavity.humor_inertia == CavitySettings::HumorInertia::translation)
       m.boundaries.humor_density = s.solid.cavity.humor_density;
     for (auto& p : s.solid.probes)
     {

@@ -37,6 +37,9 @@ SolidBlock::SolidBlock(MeshSetup mesh_setup, SolidBlockSettings s, bool is_eye)
       _press_peak(settings.solid.press.pressure * mmHg)
 {
   _open.emplace(problem);
+  if (mesh.humor)
+    flow = std::make_unique<humor_flow::Flow>(problem, *mesh.humor, mesh.humor_boundaries,
+                                              settings.solid.cavity.humor_density);
   _press_profile = [](const auto&) { return 1.0; };
   if (settings.solid.press.gaussian)
   {
@@ -85,7 +88,12 @@ void SolidBlock::inflate(double f)
 
 void SolidBlock::close() { _closed.emplace(problem, _open_pressures); }
 
-solver::System SolidBlock::system() { return _closed ? _closed->system() : _open->system(); }
+solver::System SolidBlock::system()
+{
+  if (flowing())
+    return flow->system(*_closed);
+  return _closed ? _closed->system() : _open->system();
+}
 
 biomarkers::Columns SolidBlock::cavity_state() const
 {
@@ -149,11 +157,29 @@ void SolidBlock::start_dynamics()
     return;
   _dynamic = true;
   problem.start_dynamics(settings.time_step);
+  if (flow)
+    flow->start();
   open_frames();
 }
 
 Stepper::Dynamics SolidBlock::dynamics()
 {
+  if (flowing())
+    // x holds the solid's u and the humor's p~ stacked.
+    return {[this](double dt) { problem.set_time_step(settings.time_step.with_dt(dt)); },
+            [this] { return problem.load_level(); },
+            [this]
+            {
+              flow->unknowns().unpack();
+              problem.advance();
+              flow->advance();
+            },
+            [this]
+            {
+              flow->unknowns().unpack();
+              problem.predict();
+              flow->unknowns().pack();
+            }};
   return {[this](double dt) { problem.set_time_step(settings.time_step.with_dt(dt)); },
           [this] { return problem.load_level(); }, [this] { problem.advance(); },
           [this] { problem.predict(); }};
@@ -359,6 +385,8 @@ void SolidBlock::restore(const io::CheckpointReader& checkpoint, const nlohmann:
                     state["closed"].value("forces", std::vector<double>()));
   else if (problem.cavities() > 0)
     problem.set_cavity_pressures(_open_pressures);
+  if (flow && _dynamic)
+    flow->start(); // the humor mesh onto the restored wall
   _output.emplace(folder, mesh, problem, probes);
   if (const auto& fields = state.at("fields"); !fields.is_null())
     _output->fields.resume(fields);

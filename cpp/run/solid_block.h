@@ -68,6 +68,11 @@ public:
   void close();
   const cavity::Closed* closed() const { return _closed ? &*_closed : nullptr; }
   cavity::Closed* closed() { return _closed ? &*_closed : nullptr; }
+  /// The humors' flow (cavity.humor_inertia = "flow"), or null.
+  std::unique_ptr<humor_flow::Flow> flow;
+  /// Whether the Newton system is the solid's with the humors' flow: in
+  /// the dynamics, the cavities closed.
+  bool flowing() const { return flow && _dynamic && _closed; }
   /// The Newton system now: the closed cavities bordered, or open.
   solver::System system();
   /// Each cavity's pressure [mmHg] and volume [mm^3] now.

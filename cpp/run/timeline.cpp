@@ -59,6 +59,10 @@ solver::Newton& RunState::newton(const std::string& name, const std::function<Ma
 
 solver::Newton& RunState::solid_newton()
 {
+  // With the humors' flow, the dynamics' system is the solid's and the
+  // humors' pressure stacked: one AIJ matrix, LU.
+  if (model.solid->flowing())
+    return newton("solid_humor_flow", [&] { return model.solid->flow->create_matrix(); });
   // LDL^T (solver.factorisation): the upper triangle and MUMPS' LDL^T of
   // the symmetric matrix it stands for (the follower pressures' skew part
   // is left to the Newton iteration). A preconditioner named on the command

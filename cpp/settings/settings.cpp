@@ -122,12 +122,28 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
   if (s.solid.element.mixed && s.solid.element.degree != 2)
     at("fem.formulation", "key 'fem.formulation': \"mixed\" (P2/P0) needs fem.degree = 2, got "
                               + std::to_string(s.solid.element.degree));
-  if (s.solid.cavity.humor_inertia && !s.solid.cavity.closed)
-    at("cavity.humor_inertia", "key 'cavity.humor_inertia': \"translation\" moves an "
+  using HumorInertia = CavitySettings::HumorInertia;
+  const HumorInertia humor = s.solid.cavity.humor_inertia;
+  std::string humor_name = "\"";
+  humor_name.append(scene.string("cavity.humor_inertia")).append("\"");
+  if (humor != HumorInertia::none && !s.solid.cavity.closed)
+    at("cavity.humor_inertia", "key 'cavity.humor_inertia': " + humor_name + " moves an "
                                "incompressible humor, which needs cavity.model = \"closed\"");
-  if (s.solid.cavity.humor_inertia && !eye && s.mesh.boundary.cavity_wall.empty())
-    at("cavity.humor_inertia", "key 'cavity.humor_inertia': \"translation\" needs a cavity, "
+  if (humor != HumorInertia::none && !eye && s.mesh.boundary.cavity_wall.empty())
+    at("cavity.humor_inertia", "key 'cavity.humor_inertia': " + humor_name + " needs a cavity, "
                                "but boundary.cavity_wall names no group");
+  if (humor == HumorInertia::flow && eye)
+    at("cavity.humor_inertia", "key 'cavity.humor_inertia': \"flow\" needs the humor's mesh, "
+                               "which the idealised eye does not build yet: a file mesh "
+                               "(mesh.source = \"file\") with cavity.humor_groups, or "
+                               "\"translation\"");
+  if (humor == HumorInertia::flow && !eye && s.solid.cavity.humor_groups.empty())
+    at("cavity.humor_groups", "key 'cavity.humor_groups': cavity.humor_inertia = \"flow\" "
+                              "needs the humor's volume groups, but it names none");
+  if (humor == HumorInertia::flow && load == Load::fsi)
+    at("cavity.humor_inertia", "key 'cavity.humor_inertia': \"flow\" is not coupled with the "
+                               "air yet (puff.load = \"fsi\"): a prescribed puff, or "
+                               "\"translation\"");
   if (s.solid.support.springs && !eye && s.mesh.boundary.fixed.empty())
     at("support.model", "key 'support.model': \"springs\" act on boundary.fixed, which names "
                         "no group");
@@ -347,10 +363,22 @@ void check_file_groups(const scene::Scene& scene, const Settings& s, const meshi
 {
   const std::string mesh_file = scene.string("mesh.file");
   auto at = [&](const std::string& key, const std::string& what) { e.at(scene, key, what); };
+  const auto& humor = s.solid.cavity.humor_groups;
+  auto is_humor = [&](const std::string& name)
+  { return std::find(humor.begin(), humor.end(), name) != humor.end(); };
   for (auto& [name, tag] : groups.volumes)
-    if (!s.materials.count(name))
+    if (!s.materials.count(name) && !is_humor(name))
       at("mesh.file", "volume group '" + name + "' of " + mesh_file + " has no [material." + name
                           + "] table");
+  for (auto& name : humor)
+  {
+    if (!groups.volumes.count(name))
+      at("cavity.humor_groups", "key 'cavity.humor_groups': the mesh has no volume group '"
+                                    + name + "'");
+    if (s.materials.count(name))
+      at("material." + name + ".model", "key 'material." + name + "': volume group '" + name
+                                            + "' is the humor (cavity.humor_groups), not a solid");
+  }
   for (auto& [name, m] : s.materials)
     if (!groups.volumes.count(name))
       at("material." + name + ".model",

@@ -87,8 +87,18 @@ struct SupportSettings
 struct CavitySettings
 {
   bool closed;
-  bool humor_inertia;    ///< the humors' mass, translating (forms/humor_inertia.py)
+  /// The humors' mass in the dynamics: none (massless), their translation
+  /// (forms/humor_inertia.py) or their flow (forms/humor_flow.py).
+  enum class HumorInertia
+  {
+    none,
+    translation,
+    flow
+  };
+  HumorInertia humor_inertia;
   double humor_density;  ///< [g/mm^3]
+  /// A file mesh's humor: its volume groups (cavity.humor_inertia = "flow").
+  std::vector<std::string> humor_groups;
   scene::Points origin; ///< a file mesh's volume origin [mm]
   double iop;           ///< [mmHg]
   int inflate_steps;

@@ -159,12 +159,22 @@ void visit(scene::Visitor& v, SolidSettings& s)
             "the humors' mass in the dynamics: none = massless; translation = each closed "
             "cavity's humor moves as its centroid does, the wall carrying its inertial force "
             "as a pressure linear in position (forms/humor_inertia.py; its flow relative to the "
-            "centroid is left out)"},
-           s.cavity.humor_inertia, {{"none", false}, {"translation", true}});
+            "centroid is left out); flow = each closed cavity's humor is meshed and flows, "
+            "inviscid and incompressible, as the wall drives it: a pressure field on the "
+            "humor's mesh (forms/humor_flow.py)"},
+           s.cavity.humor_inertia,
+           {{"none", CavitySettings::HumorInertia::none},
+            {"translation", CavitySettings::HumorInertia::translation},
+            {"flow", CavitySettings::HumorInertia::flow}});
   v.real({"cavity.humor_density", "1.0e-3", "g/mm^3", 1e-6, 0.1,
           "density of the humors: water's, of which the aqueous and the vitreous are 98-99 %",
-          "cavity.humor_inertia=translation"},
+          "cavity.humor_inertia=translation|flow"},
          s.cavity.humor_density);
+  v.strings({"cavity.humor_groups", "[]", "", -inf, inf,
+             "file: the volume groups of the cavity's humor, meshed conforming to "
+             "boundary.cavity_wall (cavity.humor_inertia = \"flow\")",
+             "mesh.source=file,cavity.humor_inertia=flow"},
+            s.cavity.humor_groups);
   // phase: zero-pressure geometry
   auto& zp = s.zero_pressure;
   const std::string zero_pressure = "zero_pressure.enabled=true";

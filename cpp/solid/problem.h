@@ -154,6 +154,14 @@ public:
   /// b = dR/df_j of the humors' inertial force j, zero on Dirichlet dofs
   /// (also dG_j/du: the border is symmetric).
   void humor_border(std::size_t j, dolfinx::la::Vector<double>& b);
+  /// The time step's constant `name` of the forms (dt, alpha_m, alpha_f,
+  /// beta, gamma, damping): for other forms of the same step.
+  std::shared_ptr<const dolfinx::fem::Constant<double>> time_constant(const std::string& name) const
+  {
+    return _time.at(name);
+  }
+  /// The facets' load tags (forms/tags.py): the cavity walls, the press, the support.
+  const dolfinx::mesh::MeshTags<std::int32_t>& load_tags() const { return *_load_tags; }
   /// Whether the step is dynamic (after start_dynamics()).
   bool dynamic() const { return _dynamic; }
   /// Per local scalar entry of u (owned and ghost): 1 on a Dirichlet dof

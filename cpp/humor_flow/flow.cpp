@@ -1,0 +1,691 @@
+#include "humor_flow/flow.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <dolfinx/fem/assembler.h>
+#include <dolfinx/fem/utils.h>
+#include <dolfinx/mesh/utils.h>
+
+#include "humor_flow_p1_full.h"
+#include "humor_flow_p1_full_axisymmetric.h"
+#include "humor_flow_p1_full_plane.h"
+#include "humor_flow_p2_full.h"
+#include "humor_flow_p2_full_axisymmetric.h"
+#include "humor_flow_p2_full_plane.h"
+#include "form_tags.h"
+#include "io/format.h"
+
+namespace nct::humor_flow
+{
+namespace
+{
+using namespace dolfinx;
+using io::format;
+using Place = std::array<double, 3>;
+
+/// The compiled forms of forms/humor_flow.py for one solid element.
+struct Kernels
+{
+  ufcx_function_space* (*space)(const char*);        ///< the solid mesh's (p_1)
+  ufcx_function_space* (*humor_space)(const char*);  ///< the humor mesh's (p)
+  ufcx_form *load, *load_u, *load_p_1, *load_p_2, *flux_1, *flux_2, *flux_1_u, *flux_2_u,
+      *laplace, *laplace_p;
+};
+
+#define NCT_FLOW_KERNELS(v)                                                                  \
+  Kernels{functionspace_form_humor_flow_##v##_load,                                          \
+          functionspace_form_humor_flow_##v##_laplace,                                       \
+          form_humor_flow_##v##_load,                                                        \
+          form_humor_flow_##v##_load_u,                                                      \
+          form_humor_flow_##v##_load_p_1,                                                    \
+          form_humor_flow_##v##_load_p_2,                                                    \
+          form_humor_flow_##v##_flux_1,                                                      \
+          form_humor_flow_##v##_flux_2,                                                      \
+          form_humor_flow_##v##_flux_1_u,                                                    \
+          form_humor_flow_##v##_flux_2_u,                                                    \
+          form_humor_flow_##v##_laplace,                                                     \
+          form_humor_flow_##v##_laplace_p}
+
+#define NCT_FLOW_KERNELS_OF(degree, d)                                                       \
+  return degree == 1 ? NCT_FLOW_KERNELS(p1_full##d) : NCT_FLOW_KERNELS(p2_full##d);
+
+Kernels kernels(int degree, section::Dimension dimension)
+{
+  switch (dimension)
+  {
+  case section::Dimension::three:
+    NCT_FLOW_KERNELS_OF(degree, )
+  case section::Dimension::axisymmetric:
+    NCT_FLOW_KERNELS_OF(degree, _axisymmetric)
+  case section::Dimension::plane:
+    NCT_FLOW_KERNELS_OF(degree, _plane)
+  }
+  throw std::invalid_argument("humor_flow: unknown dimension");
+}
+
+std::string where(const Place& x)
+{
+  return format("at x = (%.3f, %.3f, %.3f) mm", x[0], x[1], x[2]);
+}
+
+void sum(MPI_Comm comm, std::vector<double>& v)
+{
+  MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, comm);
+}
+
+/// The local facets of `groups` (their union).
+std::vector<std::int32_t> facets_of(const meshio::Tagged& m, const std::vector<std::int32_t>& groups)
+{
+  std::vector<std::int32_t> f;
+  for (auto g : groups)
+  {
+    auto found = m.facets->find(g);
+    f.insert(f.end(), found.begin(), found.end());
+  }
+  std::sort(f.begin(), f.end());
+  f.erase(std::unique(f.begin(), f.end()), f.end());
+  return f;
+}
+
+/// Signed volume (area on a section) of each local cell of an affine mesh.
+std::vector<double> cell_volumes(const mesh::Mesh& mesh)
+{
+  const int tdim = mesh.topology().dim();
+  const std::int32_t cells = mesh.topology().index_map(tdim)->size_local();
+  const auto& x = mesh.geometry().x();
+  std::vector<double> v(cells);
+  for (std::int32_t c = 0; c < cells; ++c)
+  {
+    auto g = mesh.geometry().dofmap().links(c);
+    std::array<std::array<double, 3>, 3> e{};
+    e[2][2] = 1;
+    for (int i = 0; i < tdim; ++i)
+      for (int j = 0; j < 3; ++j)
+        e[i][j] = x[3 * g[i + 1] + j] - x[3 * g[0] + j];
+    v[c] = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1])
+           - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0])
+           + e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
+  }
+  return v;
+}
+
+/// The solid's displacement degree (1 or 2), from its element's layout.
+int degree_of(const fem::FunctionSpace& V)
+{
+  const int tdim = V.mesh()->topology().dim();
+  return V.dofmap()->element_dof_layout().num_dofs() == tdim + 1 ? 1 : 2;
+}
+
+/// Per (block) dof of a P1 space on an affine mesh, the place of its
+/// geometry node, copied: places of the same gmsh node match exactly on
+/// the meshes split from one model (tabulate_dof_coordinates' push-forward
+/// does not).
+std::vector<double> vertex_places(const fem::FunctionSpace& V)
+{
+  const auto& mesh = *V.mesh();
+  const int tdim = mesh.topology().dim();
+  const auto& map = *V.dofmap()->index_map;
+  std::vector<double> places(3 * (map.size_local() + map.num_ghosts()), 0.0);
+  const auto x = mesh.geometry().x();
+  const std::int32_t cells = mesh.topology().index_map(tdim)->size_local()
+                             + mesh.topology().index_map(tdim)->num_ghosts();
+  for (std::int32_t c = 0; c < cells; ++c)
+  {
+    auto nodes = mesh.geometry().dofmap().links(c);
+    auto dofs = V.dofmap()->cell_dofs(c);
+    for (std::size_t i = 0; i < dofs.size(); ++i)
+      std::copy_n(x.begin() + 3 * nodes[i], 3, places.begin() + 3 * dofs[i]);
+  }
+  return places;
+}
+
+} // namespace
+
+Flow::Flow(solid::Problem& solid, const meshio::Tagged& humor, const Boundaries& boundaries,
+           double density)
+    : _solid(solid), _humor_mesh(humor.mesh), _x_built(humor.mesh->geometry().x().begin(),
+                                                       humor.mesh->geometry().x().end()),
+      _cell_volume_built(cell_volumes(*humor.mesh)), _density(density)
+{
+  const std::size_t cavities = boundaries.walls.size();
+  if (cavities == 0 || cavities > 2 || boundaries.volumes.size() != cavities)
+    throw std::invalid_argument("humor_flow: needs one or two cavities, with their walls");
+  const int gdim = humor.mesh->geometry().dim();
+  const Kernels k = kernels(degree_of(*solid.u->function_space()), solid.dimension());
+  auto S = std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(
+          k.space, "p_1",
+          std::const_pointer_cast<mesh::Mesh>(solid.u->function_space()->mesh())));
+  auto Q = std::make_shared<fem::FunctionSpace>(
+      fem::create_functionspace(k.humor_space, "p", humor.mesh));
+  for (auto& w : _p_wall)
+    w = std::make_shared<fem::Function<double>>(S);
+  p = std::make_shared<fem::Function<double>>(Q);
+  p->name = "humor_pressure";
+
+  // The humor mesh's extension: sliding on the axis and the symmetry
+  // planes, held on every other boundary facet but the walls.
+  {
+    const int fdim = gdim - 1;
+    humor.mesh->topology_mutable().create_connectivity(fdim, gdim);
+    const auto exterior = mesh::exterior_facet_indices(humor.mesh->topology());
+    std::vector<std::int32_t> wall_groups;
+    for (auto& w : boundaries.walls)
+      wall_groups.insert(wall_groups.end(), w.begin(), w.end());
+    std::map<std::int32_t, std::int32_t> tag; // facet -> new tag
+    for (auto f : exterior)
+      tag[f] = 1; // rigid
+    for (auto f : facets_of(humor, boundaries.axis))
+      tag[f] = 2;
+    mesh_motion::Boundaries mb{{{1, {0, 1, 2}}, {2, {0}}}, {0}};
+    for (auto g : boundaries.symmetry)
+    {
+      const int axis = meshio::normal_axis(*humor.mesh, *humor.facets, g);
+      for (auto f : facets_of(humor, {g}))
+        tag[f] = 3 + axis;
+      mb.fixed.push_back({3 + axis, {axis}});
+    }
+    for (auto f : facets_of(humor, wall_groups))
+      tag[f] = 0;
+    std::vector<std::int32_t> facets, values;
+    for (auto [f, t] : tag)
+      facets.push_back(f), values.push_back(t);
+    meshio::Tagged h = humor;
+    h.facets = std::make_shared<mesh::MeshTags<std::int32_t>>(humor.mesh, fdim, facets, values);
+    mesh_motion::Settings ms;
+    _motion = std::make_unique<mesh_motion::Problem>(h, ms, mb);
+    std::const_pointer_cast<fem::Function<double>>(_motion->d)->name = "humor_mesh_displacement";
+  }
+
+  choose_held_nodes(humor, boundaries);
+  std::vector<std::int32_t> active;
+  _humor_owned = Q->dofmap()->index_map->size_local();
+  for (std::int32_t b = 0; b < _humor_owned; ++b)
+    if (std::find(_held.begin(), _held.end(), b) == _held.end())
+      active.push_back(b);
+  _unknowns = std::make_unique<solver::Monolithic>(
+      humor.mesh->comm(), std::vector<solver::Monolithic::Field>{{"solid", solid.u, std::nullopt},
+                                                                {"humor_flow", p, active}});
+  _solid_owned = _unknowns->owned(0);
+  _scalar_owned = S->dofmap()->index_map->size_local();
+  pair(humor, boundaries);
+
+  const auto& U = *_unknowns;
+  _solid_held = solid.dynamic_dirichlet_marker(); // the system runs in the dynamics
+  _solid_block = {U.global(0), U.global(0), {}, gdim, gdim};
+  for (std::size_t i = 0; i < _solid_held.size(); ++i)
+    if (_solid_held[i])
+      _solid_block.rows[i] = _solid_block.cols[i] = -1;
+  _humor_block = {U.global(1), U.global(1), {}, 1, 1};
+  const std::size_t scalars = S->dofmap()->index_map->size_local()
+                              + S->dofmap()->index_map->num_ghosts();
+  for (std::size_t c = 0; c < cavities; ++c)
+  {
+    std::vector<std::int64_t> rows(scalars, -1);
+    for (auto& d : _solid_dofs[c])
+      rows[d.dof] = _pairs[d.k].row;
+    _load_p_block[c] = {_solid_block.rows, rows, {}, gdim, 1};
+    _flux_u_block[c] = {rows, _solid_block.cols, {}, 1, gdim};
+  }
+  _b_solid = std::make_unique<la::Vector<double>>(solid.u->x()->map(), solid.u->x()->bs());
+  _b_humor = std::make_unique<la::Vector<double>>(p->x()->map(), 1);
+  _b_scalar = std::make_unique<la::Vector<double>>(S->dofmap()->index_map, 1);
+  make_forms();
+}
+
+void Flow::choose_held_nodes(const meshio::Tagged& humor, const Boundaries& boundaries)
+{
+  // Per cavity, the humor node off its walls nearest the centroid of its
+  // nodes: p~ = 0 there (any node would do; an inner one keeps the
+  // incompatible flux of the neglected order rho |w|^2 off the wall).
+  auto& Q = *p->function_space();
+  const int tdim = humor.mesh->topology().dim();
+  const auto X = vertex_places(Q);
+  const std::int32_t owned = Q.dofmap()->index_map->size_local();
+  MPI_Comm comm = humor.mesh->comm();
+  int rank;
+  MPI_Comm_rank(comm, &rank);
+  for (std::size_t c = 0; c < boundaries.walls.size(); ++c)
+  {
+    std::vector<std::int8_t> in(X.size() / 3, 0), wall(X.size() / 3, 0);
+    for (auto g : boundaries.volumes[c])
+      for (auto cell : humor.cells->find(g))
+        for (auto b : Q.dofmap()->cell_dofs(cell))
+          in[b] = 1;
+    for (auto b : fem::locate_dofs_topological(Q, tdim - 1, facets_of(humor, boundaries.walls[c])))
+      wall[b] = 1;
+    std::vector<double> centre{0, 0, 0, 0};
+    for (std::int32_t b = 0; b < owned; ++b)
+      if (in[b])
+        for (int j = 0; j < 3; ++j)
+          centre[j] += X[3 * b + j], centre[3] += j == 0;
+    sum(comm, centre);
+    if (centre[3] == 0)
+      throw std::runtime_error(format("humor_flow: cavity %zu has no humor cells", c + 1));
+    // The nearest: (distance, x, y, z, rank) smallest over the ranks.
+    struct
+    {
+      double d;
+      int rank;
+    } best{std::numeric_limits<double>::infinity(), rank};
+    std::int32_t mine = -1;
+    for (std::int32_t b = 0; b < owned; ++b)
+    {
+      if (!in[b] || wall[b])
+        continue;
+      const double d = std::hypot(X[3 * b] - centre[0] / centre[3],
+                                  X[3 * b + 1] - centre[1] / centre[3],
+                                  X[3 * b + 2] - centre[2] / centre[3]);
+      if (d < best.d)
+        best.d = d, mine = b;
+    }
+    MPI_Allreduce(MPI_IN_PLACE, &best, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm);
+    if (!std::isfinite(best.d))
+      throw std::runtime_error(format("humor_flow: cavity %zu's humor has no node off its wall",
+                                      c + 1));
+    if (best.rank == rank)
+      _held.push_back(mine);
+  }
+}
+
+void Flow::pair(const meshio::Tagged& humor, const Boundaries& boundaries)
+{
+  MPI_Comm comm = humor.mesh->comm();
+  const auto& U = *_unknowns;
+  auto& Q = *p->function_space();
+  const int fdim = humor.mesh->topology().dim() - 1;
+  const auto XQ = vertex_places(Q);
+
+  // Every humor wall node (owned), the same list on every rank, by cavity and place.
+  std::vector<double> mine;
+  for (std::size_t c = 0; c < boundaries.walls.size(); ++c)
+    for (auto b : fem::locate_dofs_topological(Q, fdim, facets_of(humor, boundaries.walls[c])))
+      if (b < _humor_owned)
+        mine.insert(mine.end(), {double(c), XQ[3 * b], XQ[3 * b + 1], XQ[3 * b + 2],
+                                 double(U.global(1)[b])});
+  const auto all = meshio::all_gather(comm, mine);
+  for (std::size_t i = 0; i < all.size() / 5; ++i)
+    _pairs.push_back({int(all[5 * i]), {all[5 * i + 1], all[5 * i + 2], all[5 * i + 3]},
+                      std::int64_t(all[5 * i + 4])});
+  std::sort(_pairs.begin(), _pairs.end(), [](const Pair& a, const Pair& b)
+            { return std::tie(a.cavity, a.place) < std::tie(b.cavity, b.place); });
+  std::map<std::pair<int, Place>, std::size_t> at;
+  for (std::size_t k = 0; k < _pairs.size(); ++k)
+    at[{_pairs[k].cavity, _pairs[k].place}] = k;
+  for (std::size_t c = 0; c < boundaries.walls.size(); ++c)
+    for (auto b : fem::locate_dofs_topological(Q, fdim, facets_of(humor, boundaries.walls[c])))
+      _humor_dofs.push_back({b, at.at({int(c), {XQ[3 * b], XQ[3 * b + 1], XQ[3 * b + 2]}})});
+
+  // The solid's P1 wall dofs, each with its geometry node and its pair.
+  auto& S = *_p_wall[0]->function_space();
+  const auto& solid_mesh = *S.mesh();
+  const int tdim = solid_mesh.topology().dim();
+  const auto XS = vertex_places(S);
+  std::vector<std::int32_t> node_of(XS.size() / 3, -1);
+  const std::int32_t cells = solid_mesh.topology().index_map(tdim)->size_local()
+                             + solid_mesh.topology().index_map(tdim)->num_ghosts();
+  for (std::int32_t cell = 0; cell < cells; ++cell)
+  {
+    auto nodes = solid_mesh.geometry().dofmap().links(cell);
+    auto dofs = S.dofmap()->cell_dofs(cell);
+    for (std::size_t i = 0; i < dofs.size(); ++i)
+      node_of[dofs[i]] = nodes[i];
+  }
+  std::vector<double> found(_pairs.size(), 0.0);
+  std::string missing;
+  for (std::size_t c = 0; c < boundaries.walls.size(); ++c)
+  {
+    // The solid's facets of the wall: its load tags are the forms' (forms/tags.py).
+    std::vector<std::int32_t> facets;
+    for (auto f : _solid.load_tags().find(c == 0 ? forms::tags::cavity_1_wall
+                                                 : forms::tags::cavity_2_wall))
+      facets.push_back(f);
+    for (auto b : fem::locate_dofs_topological(S, tdim - 1, facets))
+    {
+      const Place x{XS[3 * b], XS[3 * b + 1], XS[3 * b + 2]};
+      auto it = at.find({int(c), x});
+      if (it == at.end())
+      {
+        missing = where(x);
+        continue;
+      }
+      _solid_dofs[c].push_back({b, node_of[b], it->second});
+      if (b < _scalar_owned)
+        found[it->second] = 1;
+    }
+  }
+  sum(comm, found);
+  for (std::size_t k = 0; k < _pairs.size() && missing.empty(); ++k)
+    if (found[k] != 1)
+      missing = "humor " + where(_pairs[k].place);
+  if (missing = meshio::broadcast(comm, missing); !missing.empty())
+    throw std::runtime_error("humor_flow: the humor mesh does not conform to the cavity's wall: "
+                             "no partner for the wall node "
+                             + missing);
+
+  // The humor mesh displacement's wall nodes.
+  auto& D = *_motion->d->function_space();
+  const auto XD = vertex_places(D);
+  std::map<Place, std::size_t> by_place;
+  for (std::size_t k = 0; k < _pairs.size(); ++k)
+    by_place[_pairs[k].place] = k;
+  for (std::int32_t b = 0; b < D.dofmap()->index_map->size_local(); ++b)
+    if (auto it = by_place.find({XD[3 * b], XD[3 * b + 1], XD[3 * b + 2]}); it != by_place.end())
+      _mesh_dofs.push_back({b, it->second});
+}
+
+void Flow::make_forms()
+{
+  const Kernels k = kernels(degree_of(*_solid.u->function_space()), _solid.dimension());
+  auto V = _solid.u->function_space();
+  auto S = _p_wall[0]->function_space();
+  auto Q = p->function_space();
+  _compliance = std::make_shared<fem::Constant<double>>(0.0);
+  std::map<std::string, std::shared_ptr<const fem::Constant<double>>> constants
+      = {{"compliance", _compliance}};
+  for (const char* name : {"dt", "alpha_m", "beta"})
+    constants[name] = _solid.time_constant(name);
+  const std::map<std::string, std::shared_ptr<const fem::Function<double>>> coefficients
+      = {{"u", _solid.u},           {"u_old", _solid.u_old}, {"v_old", _solid.v_old},
+         {"a_old", _solid.a_old},   {"p_1", _p_wall[0]},     {"p_2", _p_wall[1]},
+         {"p", p}};
+  const std::map<fem::IntegralType, const mesh::MeshTags<int>*> walls
+      = {{fem::IntegralType::exterior_facet, &_solid.load_tags()}};
+  auto make = [&](const ufcx_form* form, std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces,
+                  const std::map<fem::IntegralType, const mesh::MeshTags<int>*>& subdomains)
+  {
+    // A form takes only the coefficients and constants it names.
+    std::map<std::string, std::shared_ptr<const fem::Function<double>>> w;
+    for (int i = 0; i < form->num_coefficients; ++i)
+      w[form->coefficient_name_map()[i]] = coefficients.at(form->coefficient_name_map()[i]);
+    std::map<std::string, std::shared_ptr<const fem::Constant<double>>> c;
+    for (int i = 0; i < form->num_constants; ++i)
+      c[form->constant_name_map()[i]] = constants.at(form->constant_name_map()[i]);
+    return std::make_shared<fem::Form<double>>(
+        fem::create_form<double>(*form, spaces, w, c, subdomains));
+  };
+  _load = make(k.load, {V}, walls);
+  _load_u = make(k.load_u, {V, V}, walls);
+  _load_p = {make(k.load_p_1, {V, S}, walls), make(k.load_p_2, {V, S}, walls)};
+  _flux = {make(k.flux_1, {S}, walls), make(k.flux_2, {S}, walls)};
+  _flux_u = {make(k.flux_1_u, {S, V}, walls), make(k.flux_2_u, {S, V}, walls)};
+  _laplace = make(k.laplace, {Q}, {});
+  _laplace_p = make(k.laplace_p, {Q, Q}, {});
+}
+
+void Flow::set_compliance()
+{
+  const double dt = _solid.time_constant("dt")->value[0],
+               alpha_m = _solid.time_constant("alpha_m")->value[0],
+               beta = _solid.time_constant("beta")->value[0];
+  const double c = (1 - alpha_m) / (beta * dt * dt);
+  _compliance->value = {1.0 / (_density * c)};
+}
+
+void Flow::set_wall_pressures()
+{
+  std::vector<double> values(_pairs.size(), 0.0);
+  const auto x = p->x()->array();
+  for (auto [b, k] : _humor_dofs)
+    if (b < _humor_owned)
+      values[k] = x[b];
+  sum(_humor_mesh->comm(), values);
+  for (std::size_t c = 0; c < 2; ++c)
+  {
+    auto w = _p_wall[c]->x()->mutable_array();
+    for (auto& d : _solid_dofs[c])
+      w[d.dof] = values[d.k];
+  }
+}
+
+void Flow::residual(la::Vector<double>& b)
+{
+  double t = MPI_Wtime();
+  auto lap = [&](const char* part)
+  {
+    const double now = MPI_Wtime();
+    _timings[part] += now - t;
+    t = now;
+  };
+  set_compliance();
+  _solid.residual(*_b_solid);
+  lap("solid");
+  // The wall's load, on the solid's free rows.
+  auto& load = *_b_scalar; // reused below for the flux
+  la::Vector<double> wall(_b_solid->map(), _b_solid->bs());
+  fem::assemble_vector(wall.mutable_array(), *_load);
+  wall.scatter_rev(std::plus<double>());
+  auto bs = _b_solid->mutable_array();
+  for (std::int32_t i = 0; i < _solid_owned; ++i)
+    if (!_solid_held[i])
+      bs[i] += wall.array()[i];
+  // The humor's rows: its Laplacian, and the wall's flux moved onto them.
+  std::fill(_b_humor->mutable_array().begin(), _b_humor->mutable_array().end(), 0.0);
+  fem::assemble_vector(_b_humor->mutable_array(), *_laplace);
+  _b_humor->scatter_rev(std::plus<double>());
+  lap("humor");
+  std::vector<double> flux(_pairs.size(), 0.0);
+  for (std::size_t c = 0; c < 2; ++c)
+  {
+    std::fill(load.mutable_array().begin(), load.mutable_array().end(), 0.0);
+    fem::assemble_vector(load.mutable_array(), *_flux[c]);
+    load.scatter_rev(std::plus<double>());
+    for (auto& d : _solid_dofs[c])
+      if (d.dof < _scalar_owned)
+        flux[d.k] += load.array()[d.dof];
+  }
+  sum(_humor_mesh->comm(), flux);
+  auto bh = _b_humor->mutable_array();
+  for (auto [d, k] : _humor_dofs)
+    if (d < _humor_owned)
+      bh[d] += flux[k];
+  std::fill(b.mutable_array().begin(), b.mutable_array().end(), 0.0);
+  _unknowns->insert(0, bs, b);
+  _unknowns->insert(1, bh, b);
+  lap("wall");
+}
+
+void Flow::add_jacobian(Mat A)
+{
+  double t = MPI_Wtime();
+  auto lap = [&](const char* part)
+  {
+    const double now = MPI_Wtime();
+    _timings[part] += now - t;
+    t = now;
+  };
+  set_compliance();
+  for (const auto* J : _solid.jacobian_forms())
+    fem::assemble_matrix(solver::add_block(A, _solid_block), *J, {});
+  const auto& U = *_unknowns;
+  for (std::int32_t i = 0; i < U.owned(0); ++i)
+    if (_solid_held[i] && U.global(0)[i] >= 0)
+      MatSetValue(A, U.global(0)[i], U.global(0)[i], 1.0, ADD_VALUES);
+  lap("solid");
+  fem::assemble_matrix(solver::add_block(A, _humor_block), *_laplace_p, {});
+  lap("humor");
+  fem::assemble_matrix(solver::add_block(A, _solid_block), *_load_u, {});
+  for (std::size_t c = 0; c < 2; ++c)
+  {
+    fem::assemble_matrix(solver::add_block(A, _load_p_block[c]), *_load_p[c], {});
+    fem::assemble_matrix(solver::add_block(A, _flux_u_block[c]), *_flux_u[c], {});
+  }
+  lap("wall");
+}
+
+Mat Flow::create_matrix()
+{
+  set_wall_pressures();
+  return _unknowns->create_matrix([this](Mat P) { add_jacobian(P); });
+}
+
+solver::System Flow::system(cavity::Closed& closed)
+{
+  solver::System s;
+  s.x = &_unknowns->x();
+  s.y = closed.unknowns();
+  s.residual = [this, &closed](la::Vector<double>& b, std::vector<double>& g)
+  {
+    _unknowns->unpack();
+    closed.apply();
+    set_wall_pressures();
+    residual(b);
+    closed.constraints(g);
+  };
+  s.jacobian = [this, &closed](Mat A)
+  {
+    _unknowns->unpack();
+    closed.apply();
+    set_wall_pressures();
+    MatZeroEntries(A);
+    add_jacobian(A);
+    MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
+    MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
+  };
+  s.border = [this, &closed](std::vector<la::Vector<double>>& B, std::vector<la::Vector<double>>& C,
+                             std::vector<double>& D)
+  {
+    std::vector<la::Vector<double>> Bs(B.size(), *_b_solid), Cs(C.size(), *_b_solid);
+    closed.border(Bs, Cs, D);
+    for (std::size_t i = 0; i < B.size(); ++i)
+    {
+      std::fill(B[i].mutable_array().begin(), B[i].mutable_array().end(), 0.0);
+      std::fill(C[i].mutable_array().begin(), C[i].mutable_array().end(), 0.0);
+      _unknowns->insert(0, Bs[i].array(), B[i]);
+      _unknowns->insert(0, Cs[i].array(), C[i]);
+    }
+  };
+  s.inadmissible = [this]
+  {
+    const auto w = _solid.smallest_jacobian();
+    if (w.value > 0)
+      return std::string();
+    return (w.value == -std::numeric_limits<double>::infinity()
+                ? std::string("det F is NaN ")
+                : format("an element inverted: det F = %.3g ", w.value))
+           + format("at X = (%.3f, %.3f, %.3f) mm", w.x[0], w.x[1], w.x[2])
+           + (w.part.empty() ? std::string() : " in the " + w.part);
+  };
+  s.locate = [this](const la::Vector<double>& b)
+  {
+    std::vector<double> block(_unknowns->owned(0));
+    _unknowns->extract(0, b, block);
+    std::copy(block.begin(), block.end(), _b_solid->mutable_array().begin());
+    const auto w = _solid.largest_residual(*_b_solid);
+    std::vector<double> humor(_unknowns->owned(1));
+    _unknowns->extract(1, b, humor);
+    double m = 0;
+    for (double v : humor)
+      m = std::max(m, std::isfinite(v) ? std::abs(v) : std::numeric_limits<double>::infinity());
+    MPI_Allreduce(MPI_IN_PLACE, &m, 1, MPI_DOUBLE, MPI_MAX, _humor_mesh->comm());
+    return format("(%.3e N) at X = (%.3f, %.3f, %.3f) mm", w.value, w.x[0], w.x[1], w.x[2])
+           + (w.part.empty() ? std::string() : " in the " + w.part)
+           + format("; the humor's rows' largest %.3e mm^3", m);
+  };
+  return s;
+}
+
+void Flow::follow_wall()
+{
+  const double t = MPI_Wtime();
+  // The solid's wall nodes where they are now.
+  const auto u = _solid.nodal_displacement();
+  const auto& xs = _solid.u->function_space()->mesh()->geometry().x();
+  std::vector<double> now(3 * _pairs.size(), 0.0);
+  for (std::size_t c = 0; c < 2; ++c)
+    for (auto& d : _solid_dofs[c])
+      if (d.dof < _scalar_owned)
+        for (int j = 0; j < 3; ++j)
+          now[3 * d.k + j] = xs[3 * d.node + j] + u[3 * d.node + j];
+  sum(_humor_mesh->comm(), now);
+  // Their displacement from the humor mesh as built, extended into it
+  // (on the mesh as built: the extension's operator is its).
+  auto& D = *_motion->d->function_space();
+  std::span<double> x = _humor_mesh->geometry().x();
+  std::copy(_x_built.begin(), _x_built.end(), x.begin());
+  std::vector<std::pair<std::int32_t, std::array<double, 3>>> g;
+  for (auto [b, k] : _mesh_dofs)
+    g.push_back({b, {now[3 * k] - _pairs[k].place[0], now[3 * k + 1] - _pairs[k].place[1],
+                     now[3 * k + 2] - _pairs[k].place[2]}});
+  _motion->extend(g);
+  // x = X + d at the mesh's nodes (P1: the geometry's nodes are d's).
+  const auto& mesh = *_humor_mesh;
+  const int tdim = mesh.topology().dim(), bs = D.dofmap()->index_map_bs();
+  const std::int32_t cells = mesh.topology().index_map(tdim)->size_local()
+                             + mesh.topology().index_map(tdim)->num_ghosts();
+  const auto d = _motion->d->x()->array();
+  for (std::int32_t c = 0; c < cells; ++c)
+  {
+    auto nodes = mesh.geometry().dofmap().links(c);
+    auto dofs = D.dofmap()->cell_dofs(c);
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+      for (int j = 0; j < bs; ++j)
+        x[3 * nodes[i] + j] = _x_built[3 * nodes[i] + j] + d[bs * dofs[i] + j];
+  }
+  _timings["mesh_motion"] += MPI_Wtime() - t;
+}
+
+void Flow::start()
+{
+  follow_wall();
+  std::fill(p->x()->mutable_array().begin(), p->x()->mutable_array().end(), 0.0);
+  _unknowns->pack();
+}
+
+void Flow::advance()
+{
+  follow_wall();
+  const auto [ratio, x] = smallest_cell_ratio();
+  if (!(ratio > 0))
+    throw std::runtime_error(format("humor_flow: a humor cell folded (volume %.3g of its own "
+                                    "as built) ",
+                                    ratio)
+                             + where(x) + ": the wall moved further into the humor than its "
+                                          "mesh's extension can follow");
+}
+
+std::pair<double, std::array<double, 3>> Flow::smallest_cell_ratio() const
+{
+  const auto v = cell_volumes(*_humor_mesh);
+  const auto& x = _humor_mesh->geometry().x();
+  struct
+  {
+    double value;
+    int rank;
+  } best{std::numeric_limits<double>::infinity(), 0};
+  MPI_Comm_rank(_humor_mesh->comm(), &best.rank);
+  std::int32_t cell = -1;
+  for (std::size_t c = 0; c < v.size(); ++c)
+    if (const double r = v[c] / _cell_volume_built[c]; !(r >= best.value))
+      best.value = std::isnan(r) ? -std::numeric_limits<double>::infinity() : r,
+      cell = static_cast<std::int32_t>(c);
+  const int rank = best.rank;
+  MPI_Allreduce(MPI_IN_PLACE, &best, 1, MPI_DOUBLE_INT, MPI_MINLOC, _humor_mesh->comm());
+  std::array<double, 3> at{0, 0, 0};
+  if (best.rank == rank && cell >= 0)
+  {
+    auto nodes = _humor_mesh->geometry().dofmap().links(cell);
+    for (auto n : nodes)
+      for (int j = 0; j < 3; ++j)
+        at[j] += x[3 * n + j] / double(nodes.size());
+  }
+  MPI_Bcast(at.data(), 3, MPI_DOUBLE, best.rank, _humor_mesh->comm());
+  return {best.value, at};
+}
+
+double Flow::largest_pressure() const
+{
+  double m = 0;
+  const auto x = p->x()->array();
+  for (std::int32_t b = 0; b < _humor_owned; ++b)
+    m = std::max(m, std::abs(x[b]));
+  MPI_Allreduce(MPI_IN_PLACE, &m, 1, MPI_DOUBLE, MPI_MAX, _humor_mesh->comm());
+  return m;
+}
+
+std::int64_t Flow::dofs() const { return _unknowns->size_global(1); }
+
+} // namespace nct::humor_flow

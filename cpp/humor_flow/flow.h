@@ -1,0 +1,147 @@
+// The flow a moving wall drives in the closed cavities' humors
+// (forms/humor_flow.py): the hydroelastic pressure on the humor's own
+// mesh, one Newton system with the solid and its closed cavities.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <dolfinx/fem/Form.h>
+#include <dolfinx/fem/Function.h>
+#include <dolfinx/la/Vector.h>
+#include <petscmat.h>
+
+#include "cavity/cavity.h"
+#include "mesh_motion/problem.h"
+#include "meshio/model.h"
+#include "solid/problem.h"
+#include "solver/monolithic.h"
+#include "solver/newton.h"
+
+namespace nct::humor_flow
+{
+
+/// The humor mesh's groups: per cavity, its volume groups and the facet
+/// groups it shares with the solid's wall of that cavity; the axis of an
+/// axisymmetric section and the symmetry planes, on which the humor mesh
+/// slides. Every other boundary facet is a rigid wall (dp/dn = 0, the
+/// mesh held there).
+struct Boundaries
+{
+  std::vector<std::vector<std::int32_t>> volumes, walls; ///< per cavity
+  std::vector<std::int32_t> axis, symmetry;
+};
+
+/// The humors' pressure p = P_c + p~ (P_c the closed cavity's multiplier)
+/// and the coupled system of the solid, its closed cavities and p~.
+///
+/// Unknowns, stacked: the solid's displacement, then p~ (P1 on the humor
+/// mesh) but at one node per cavity, where p~ = 0; the cavities' pressures
+/// border the system (cavity::Closed). The humor mesh follows the wall by
+/// the mesh motion's extension (mesh_motion::Problem) at the start of
+/// every step, from the last converged wall: its geometry lags the wall by
+/// a step within the step's Newton iterations (the Laplacian's dependence
+/// on the wall's shape is not differentiated). Acts in the dynamics only.
+class Flow
+{
+public:
+  /// Pairs the humor's wall nodes with the solid's by place: call on the
+  /// meshes as built, before the solid's reference geometry moves (zero
+  /// pressure). `density` [g/mm^3].
+  Flow(solid::Problem& solid, const meshio::Tagged& humor, const Boundaries& boundaries,
+       double density);
+
+  /// At the start of the dynamics: the humor mesh onto the solid's current
+  /// wall, p~ = 0.
+  void start();
+  /// The Newton system of the solid, its closed cavities and p~.
+  solver::System system(cavity::Closed& closed);
+  /// A matrix with the system's pattern (AIJ, assembled once).
+  Mat create_matrix();
+  /// After a converged step: the humor mesh follows the wall. Throws
+  /// std::runtime_error, naming the place, if a humor cell folded.
+  void advance();
+  /// The stacked unknowns (fields: solid, humor_flow).
+  solver::Monolithic& unknowns() { return *_unknowns; }
+
+  /// p~ [MPa] on the humor mesh: the pressure less the cavity's.
+  std::shared_ptr<dolfinx::fem::Function<double>> p;
+  /// The humor mesh's displacement from its geometry as built [mm].
+  std::shared_ptr<const dolfinx::fem::Function<double>> mesh_displacement() const
+  {
+    return _motion->d;
+  }
+  /// Unknowns of p~ (all ranks).
+  std::int64_t dofs() const;
+  /// Wall nodes paired with the solid's.
+  std::size_t wall_nodes() const { return _pairs.size(); }
+  /// The largest |p~| [MPa] now. Collective.
+  double largest_pressure() const;
+  /// The humor's smallest cell volume now over as built (negative: folded),
+  /// and where (current coordinates). Collective.
+  std::pair<double, std::array<double, 3>> smallest_cell_ratio() const;
+  /// Wall time [s] by part: "solid", "humor" (its forms), "wall" (the
+  /// wall's blocks and transfers), "mesh_motion" (the extension).
+  const std::map<std::string, double>& timings() const { return _timings; }
+
+private:
+  /// A humor wall node: its cavity and place as built.
+  struct Pair
+  {
+    int cavity;
+    std::array<double, 3> place;
+    std::int64_t row = -1; ///< its p~'s index in the stacked system (-1: held)
+  };
+  void pair(const meshio::Tagged& humor, const Boundaries& boundaries);
+  void choose_held_nodes(const meshio::Tagged& humor, const Boundaries& boundaries);
+  void make_forms();
+  /// p~ on the wall into the solid mesh's p_1, p_2 (x unpacked).
+  void set_wall_pressures();
+  /// The coupled residual into b (x unpacked).
+  void residual(dolfinx::la::Vector<double>& b);
+  void add_jacobian(Mat A);
+  /// The humor mesh onto the solid's current wall.
+  void follow_wall();
+  /// 1 / (rho c) of the solid's time step [mm^2/MPa].
+  void set_compliance();
+
+  solid::Problem& _solid;
+  std::shared_ptr<dolfinx::mesh::Mesh> _humor_mesh;
+  std::vector<double> _x_built; ///< the humor mesh's geometry as built
+  std::vector<double> _cell_volume_built; ///< per local cell, signed
+  double _density;
+  std::unique_ptr<mesh_motion::Problem> _motion;
+  /// The solid mesh's P1 wall pressure per cavity (forms' p_1, p_2).
+  std::array<std::shared_ptr<dolfinx::fem::Function<double>>, 2> _p_wall;
+  std::shared_ptr<dolfinx::fem::Constant<double>> _compliance;
+  std::shared_ptr<dolfinx::fem::Form<double>> _load, _load_u, _laplace, _laplace_p;
+  std::array<std::shared_ptr<dolfinx::fem::Form<double>>, 2> _load_p, _flux, _flux_u;
+  std::unique_ptr<solver::Monolithic> _unknowns;
+  std::vector<Pair> _pairs; ///< every wall node, the same on every rank
+  /// Local dofs and their pair: the solid's P1 wall dofs (owned and
+  /// ghost) per cavity, with the solid mesh's geometry node; the humor's
+  /// wall dofs (owned and ghost).
+  struct Solid_dof
+  {
+    std::int32_t dof, node;
+    std::size_t k;
+  };
+  std::array<std::vector<Solid_dof>, 2> _solid_dofs;
+  std::vector<std::pair<std::int32_t, std::size_t>> _humor_dofs;
+  /// The humor mesh displacement's owned wall nodes (block dofs) and their pair.
+  std::vector<std::pair<std::int32_t, std::size_t>> _mesh_dofs;
+  std::vector<std::int32_t> _held; ///< the humor dofs where p~ = 0 (local, owned)
+  std::int32_t _solid_owned = 0, _scalar_owned = 0, _humor_owned = 0;
+  std::vector<std::int8_t> _solid_held;
+  solver::BlockIndices _solid_block, _humor_block;
+  std::array<solver::BlockIndices, 2> _load_p_block, _flux_u_block;
+  std::unique_ptr<dolfinx::la::Vector<double>> _b_solid, _b_humor, _b_scalar;
+  std::map<std::string, double> _timings;
+};
+
+} // namespace nct::humor_flow
