@@ -194,11 +194,13 @@ std::pair<std::optional<MeshSetup>, std::optional<AirMesh>> file_meshes(MPI_Comm
      : std::find(humors.begin(), humors.end(), name) != humors.end() ? humor_tags
                                                                      : solid_tags)
         .push_back(tag);
-  // The humor's mesh, conforming to the cavity's wall (cavity.humor_inertia = "flow").
+  // The humor's mesh, conforming to the cavity's wall (cavity.humor_inertia
+  // = "flow"; the other models leave it out).
   std::optional<meshio::Tagged> humor;
   if (!humor_tags.empty())
   {
-    humor = meshio::distribute(comm, meshio::keep(whole, humor_tags));
+    if (s.solid.cavity.humor_inertia == CavitySettings::HumorInertia::flow)
+      humor = meshio::distribute(comm, meshio::keep(whole, humor_tags));
     whole = meshio::keep(whole, [&]
                          {
                            std::vector<std::int32_t> rest = solid_tags;

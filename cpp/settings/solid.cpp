@@ -172,8 +172,9 @@ void visit(scene::Visitor& v, SolidSettings& s)
          s.cavity.humor_density);
   v.strings({"cavity.humor_groups", "[]", "", -inf, inf,
              "file: the volume groups of the cavity's humor, meshed conforming to "
-             "boundary.cavity_wall (cavity.humor_inertia = \"flow\")",
-             "mesh.source=file,cavity.humor_inertia=flow"},
+             "boundary.cavity_wall: its mesh with cavity.humor_inertia = \"flow\", left out "
+             "with the other models",
+             "mesh.source=file"},
             s.cavity.humor_groups);
   // phase: zero-pressure geometry
   auto& zp = s.zero_pressure;

@@ -403,14 +403,17 @@ void Problem::make_forms(const meshio::Tagged& m, const Kernels& k, const Elemen
   if (boundaries.humor_density && !boundaries.cavities.empty())
   {
     // The humors move along the axes no mirror plane holds (an
-    // axisymmetric section: along its axis only).
+    // axisymmetric section: along its axis only, unless mirrored); none
+    // left: the mirrors hold the centroids, and the humors' translation
+    // has no inertia.
     std::vector<int> components;
     for (int i = 0; i < gdim; ++i)
-      if (_dimension == section::Dimension::axisymmetric ? i == 1 : !mirrors.count(i))
+      if ((_dimension != section::Dimension::axisymmetric || i == 1) && !mirrors.count(i))
         components.push_back(i);
-    _humor_inertia = std::make_unique<HumorInertia>(element, u, constants, *_load_tags,
-                                                    boundaries.cavities.size(), components,
-                                                    *boundaries.humor_density);
+    if (!components.empty())
+      _humor_inertia = std::make_unique<HumorInertia>(element, u, constants, *_load_tags,
+                                                      boundaries.cavities.size(), components,
+                                                      *boundaries.humor_density);
   }
 }
 
