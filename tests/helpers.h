@@ -92,6 +92,40 @@ inline Oscillation damped_oscillation(const std::vector<double>& t, const std::v
   return o;
 }
 
+/// The angular frequency of the damped sinusoid e^{-sigma t} (A cos wt +
+/// B sin wt) that fits y(t) for t >= from best in least squares (A, B by
+/// the normal equations, w by golden section within 10 % of omega0): the
+/// whole record weighs in, so another mode's small ringing averages out
+/// where zero crossings (damped_oscillation) shift with it.
+inline double fitted_frequency(const std::vector<double>& t, const std::vector<double>& y,
+                               double from, double omega0, double sigma)
+{
+  auto misfit = [&](double w)
+  {
+    double cc = 0, cs = 0, ss = 0, cy = 0, sy = 0, yy = 0;
+    for (std::size_t i = 0; i < t.size(); ++i)
+    {
+      if (t[i] < from)
+        continue;
+      const double e = std::exp(-sigma * (t[i] - from)), c = e * std::cos(w * t[i]),
+                   s = e * std::sin(w * t[i]);
+      cc += c * c, cs += c * s, ss += s * s, cy += c * y[i], sy += s * y[i], yy += y[i] * y[i];
+    }
+    const double det = cc * ss - cs * cs, A = (cy * ss - sy * cs) / det,
+                 B = (sy * cc - cy * cs) / det;
+    return yy - A * cy - B * sy;
+  };
+  const double g = 0.5 * (std::sqrt(5.0) - 1); // the golden ratio's inverse
+  double lo = 0.9 * omega0, hi = 1.1 * omega0;
+  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = misfit(x1), f2 = misfit(x2);
+  while (hi - lo > 1e-9 * omega0)
+    if (f1 < f2)
+      hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = misfit(x1);
+    else
+      lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = misfit(x2);
+  return 0.5 * (lo + hi);
+}
+
 /// Parameters of forms/hgo.py's law with the volumetric kappa ln J / J.
 struct HgoLaw
 {

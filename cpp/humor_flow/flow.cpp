@@ -180,6 +180,8 @@ Flow::Flow(solid::Problem& solid, const meshio::Tagged& humor, const Boundaries&
       tag[f] = 1; // rigid
     for (auto f : facets_of(humor, boundaries.axis))
       tag[f] = 2;
+    for (auto f : facets_of(humor, boundaries.open))
+      tag[f] = 1;
     mesh_motion::Boundaries mb{{{1, {0, 1, 2}}, {2, {0}}}, {0}};
     for (auto g : boundaries.symmetry)
     {
@@ -204,7 +206,7 @@ Flow::Flow(solid::Problem& solid, const meshio::Tagged& humor, const Boundaries&
   std::vector<std::int32_t> active;
   _humor_owned = Q->dofmap()->index_map->size_local();
   for (std::int32_t b = 0; b < _humor_owned; ++b)
-    if (std::find(_held.begin(), _held.end(), b) == _held.end())
+    if (!std::binary_search(_held.begin(), _held.end(), b))
       active.push_back(b);
   _unknowns = std::make_unique<solver::Monolithic>(
       humor.mesh->comm(), std::vector<solver::Monolithic::Field>{{"solid", solid.u, std::nullopt},
@@ -238,9 +240,10 @@ Flow::Flow(solid::Problem& solid, const meshio::Tagged& humor, const Boundaries&
 
 void Flow::choose_held_nodes(const meshio::Tagged& humor, const Boundaries& boundaries)
 {
-  // Per cavity, the humor node off its walls nearest the centroid of its
-  // nodes: p~ = 0 there (any node would do; an inner one keeps the
-  // incompatible flux of the neglected order rho |w|^2 off the wall).
+  // p~ = 0 on the openings; in a humor without one, at the node off its
+  // walls nearest the centroid of its nodes (any node would do; an inner
+  // one keeps the incompatible flux of the neglected order rho |w|^2 off
+  // the wall).
   auto& Q = *p->function_space();
   const int tdim = humor.mesh->topology().dim();
   const auto X = vertex_places(Q);
@@ -248,6 +251,12 @@ void Flow::choose_held_nodes(const meshio::Tagged& humor, const Boundaries& boun
   MPI_Comm comm = humor.mesh->comm();
   int rank;
   MPI_Comm_rank(comm, &rank);
+  std::vector<std::int8_t> open(X.size() / 3, 0);
+  for (auto b : fem::locate_dofs_topological(Q, tdim - 1, facets_of(humor, boundaries.open)))
+    open[b] = 1;
+  for (std::int32_t b = 0; b < owned; ++b)
+    if (open[b])
+      _held.push_back(b);
   for (std::size_t c = 0; c < boundaries.walls.size(); ++c)
   {
     std::vector<std::int8_t> in(X.size() / 3, 0), wall(X.size() / 3, 0);
@@ -255,6 +264,12 @@ void Flow::choose_held_nodes(const meshio::Tagged& humor, const Boundaries& boun
       for (auto cell : humor.cells->find(g))
         for (auto b : Q.dofmap()->cell_dofs(cell))
           in[b] = 1;
+    int opens = 0;
+    for (std::int32_t b = 0; b < owned; ++b)
+      opens += in[b] && open[b];
+    MPI_Allreduce(MPI_IN_PLACE, &opens, 1, MPI_INT, MPI_SUM, comm);
+    if (opens > 0)
+      continue;
     for (auto b : fem::locate_dofs_topological(Q, tdim - 1, facets_of(humor, boundaries.walls[c])))
       wall[b] = 1;
     std::vector<double> centre{0, 0, 0, 0};
@@ -289,6 +304,7 @@ void Flow::choose_held_nodes(const meshio::Tagged& humor, const Boundaries& boun
     if (best.rank == rank)
       _held.push_back(mine);
   }
+  std::sort(_held.begin(), _held.end());
 }
 
 void Flow::pair(const meshio::Tagged& humor, const Boundaries& boundaries)
@@ -522,42 +538,46 @@ Mat Flow::create_matrix()
   return _unknowns->create_matrix([this](Mat P) { add_jacobian(P); });
 }
 
-solver::System Flow::system(cavity::Closed& closed)
+solver::System Flow::system(cavity::Closed* closed)
 {
   solver::System s;
   s.x = &_unknowns->x();
-  s.y = closed.unknowns();
-  s.residual = [this, &closed](la::Vector<double>& b, std::vector<double>& g)
+  s.y = closed ? closed->unknowns() : &_no_unknowns;
+  s.residual = [this, closed](la::Vector<double>& b, std::vector<double>& g)
   {
     _unknowns->unpack();
-    closed.apply();
+    if (closed)
+      closed->apply();
     set_wall_pressures();
     residual(b);
-    closed.constraints(g);
+    if (closed)
+      closed->constraints(g);
   };
-  s.jacobian = [this, &closed](Mat A)
+  s.jacobian = [this, closed](Mat A)
   {
     _unknowns->unpack();
-    closed.apply();
+    if (closed)
+      closed->apply();
     set_wall_pressures();
     MatZeroEntries(A);
     add_jacobian(A);
     MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
     MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
   };
-  s.border = [this, &closed](std::vector<la::Vector<double>>& B, std::vector<la::Vector<double>>& C,
-                             std::vector<double>& D)
-  {
-    std::vector<la::Vector<double>> Bs(B.size(), *_b_solid), Cs(C.size(), *_b_solid);
-    closed.border(Bs, Cs, D);
-    for (std::size_t i = 0; i < B.size(); ++i)
+  if (closed)
+    s.border = [this, closed](std::vector<la::Vector<double>>& B,
+                              std::vector<la::Vector<double>>& C, std::vector<double>& D)
     {
-      std::fill(B[i].mutable_array().begin(), B[i].mutable_array().end(), 0.0);
-      std::fill(C[i].mutable_array().begin(), C[i].mutable_array().end(), 0.0);
-      _unknowns->insert(0, Bs[i].array(), B[i]);
-      _unknowns->insert(0, Cs[i].array(), C[i]);
-    }
-  };
+      std::vector<la::Vector<double>> Bs(B.size(), *_b_solid), Cs(C.size(), *_b_solid);
+      closed->border(Bs, Cs, D);
+      for (std::size_t i = 0; i < B.size(); ++i)
+      {
+        std::fill(B[i].mutable_array().begin(), B[i].mutable_array().end(), 0.0);
+        std::fill(C[i].mutable_array().begin(), C[i].mutable_array().end(), 0.0);
+        _unknowns->insert(0, Bs[i].array(), B[i]);
+        _unknowns->insert(0, Cs[i].array(), C[i]);
+      }
+    };
   s.inadmissible = [this]
   {
     const auto w = _solid.smallest_jacobian();

@@ -29,20 +29,21 @@ namespace nct::humor_flow
 /// The humor mesh's groups: per cavity, its volume groups and the facet
 /// groups it shares with the solid's wall of that cavity; the axis of an
 /// axisymmetric section and the symmetry planes, on which the humor mesh
-/// slides. Every other boundary facet is a rigid wall (dp/dn = 0, the
-/// mesh held there).
+/// slides; openings at the cavity's pressure (p~ = 0, the mesh held).
+/// Every other boundary facet is a rigid wall (dp/dn = 0, the mesh held).
 struct Boundaries
 {
   std::vector<std::vector<std::int32_t>> volumes, walls; ///< per cavity
-  std::vector<std::int32_t> axis, symmetry;
+  std::vector<std::int32_t> axis, symmetry, open;
 };
 
 /// The humors' pressure p = P_c + p~ (P_c the closed cavity's multiplier)
 /// and the coupled system of the solid, its closed cavities and p~.
 ///
 /// Unknowns, stacked: the solid's displacement, then p~ (P1 on the humor
-/// mesh) but at one node per cavity, where p~ = 0; the cavities' pressures
-/// border the system (cavity::Closed). The humor mesh follows the wall by
+/// mesh) but where p~ = 0: on the openings, or at one node of a closed
+/// humor; the closed cavities' pressures border the system
+/// (cavity::Closed), an open cavity's is prescribed. The humor mesh follows the wall by
 /// the mesh motion's extension (mesh_motion::Problem) at the start of
 /// every step, from the last converged wall: its geometry lags the wall by
 /// a step within the step's Newton iterations (the Laplacian's dependence
@@ -59,8 +60,8 @@ public:
   /// At the start of the dynamics: the humor mesh onto the solid's current
   /// wall, p~ = 0.
   void start();
-  /// The Newton system of the solid, its closed cavities and p~.
-  solver::System system(cavity::Closed& closed);
+  /// The Newton system of the solid, its closed cavities (null: open) and p~.
+  solver::System system(cavity::Closed* closed);
   /// A matrix with the system's pattern (AIJ, assembled once).
   Mat create_matrix();
   /// After a converged step: the humor mesh follows the wall. Throws
@@ -135,7 +136,8 @@ private:
   std::vector<std::pair<std::int32_t, std::size_t>> _humor_dofs;
   /// The humor mesh displacement's owned wall nodes (block dofs) and their pair.
   std::vector<std::pair<std::int32_t, std::size_t>> _mesh_dofs;
-  std::vector<std::int32_t> _held; ///< the humor dofs where p~ = 0 (local, owned)
+  std::vector<std::int32_t> _held; ///< the humor dofs where p~ = 0 (local, owned, sorted)
+  std::vector<double> _no_unknowns;
   std::int32_t _solid_owned = 0, _scalar_owned = 0, _humor_owned = 0;
   std::vector<std::int8_t> _solid_held;
   solver::BlockIndices _solid_block, _humor_block;

@@ -237,7 +237,8 @@ std::pair<std::optional<MeshSetup>, std::optional<AirMesh>> file_meshes(MPI_Comm
   if (!b.cavities.empty())
     m.cavity_names = {"cavity"};
   if (m.humor)
-    m.humor_boundaries = {{humor_tags}, {tags(bs.cavity_wall)}, tags(bs.axis), tags(bs.symmetry)};
+    m.humor_boundaries = {{humor_tags},       {tags(bs.cavity_wall)}, tags(bs.axis),
+                          tags(bs.symmetry), tags(bs.humor_open)};
   for (auto& [name, tag] : groups.volumes)
     if (std::find(solid_tags.begin(), solid_tags.end(), tag) != solid_tags.end())
       m.parts[tag] = name;

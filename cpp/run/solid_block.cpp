@@ -91,7 +91,7 @@ void SolidBlock::close() { _closed.emplace(problem, _open_pressures); }
 solver::System SolidBlock::system()
 {
   if (flowing())
-    return flow->system(*_closed);
+    return flow->system(_closed ? &*_closed : nullptr);
   return _closed ? _closed->system() : _open->system();
 }
 

@@ -71,8 +71,8 @@ public:
   /// The humors' flow (cavity.humor_inertia = "flow"), or null.
   std::unique_ptr<humor_flow::Flow> flow;
   /// Whether the Newton system is the solid's with the humors' flow: in
-  /// the dynamics, the cavities closed.
-  bool flowing() const { return flow && _dynamic && _closed; }
+  /// the dynamics.
+  bool flowing() const { return flow && _dynamic; }
   /// The Newton system now: the closed cavities bordered, or open.
   solver::System system();
   /// Each cavity's pressure [mmHg] and volume [mm^3] now.

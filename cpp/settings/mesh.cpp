@@ -56,6 +56,12 @@ void visit(scene::Visitor& v, MeshSettings& s)
   v.strings({"boundary.cavity_wall", "[]", "", -inf, inf,
              "file: facet groups bounding the fluid cavity (IOP acts here)", on_file},
             b.cavity_wall);
+  v.strings({"boundary.humor_open", "[]", "", -inf, inf,
+             "file: facet groups of the humor (cavity.humor_groups) where it is open at the "
+             "cavity's pressure, p = IOP: an opening to a far field; with cavity.model = "
+             "\"constant_pressure\" (a closed humor holds its volume instead)",
+             "mesh.source=file,cavity.humor_inertia=flow"},
+            b.humor_open);
   v.strings({"boundary.press", "[]", "", -inf, inf,
              "file: facet groups the press (press.pressure) and a prescribed puff act on", on_file},
             b.press);

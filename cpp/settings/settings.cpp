@@ -126,9 +126,16 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
   const HumorInertia humor = s.solid.cavity.humor_inertia;
   std::string humor_name = "\"";
   humor_name.append(scene.string("cavity.humor_inertia")).append("\"");
-  if (humor != HumorInertia::none && !s.solid.cavity.closed)
+  const bool open_humor = !s.mesh.boundary.humor_open.empty();
+  if (humor != HumorInertia::none && !s.solid.cavity.closed && !open_humor)
     at("cavity.humor_inertia", "key 'cavity.humor_inertia': " + humor_name + " moves an "
-                               "incompressible humor, which needs cavity.model = \"closed\"");
+                               "incompressible humor, which needs cavity.model = \"closed\"" +
+                               (humor == HumorInertia::flow
+                                    ? std::string(" (or, open to a far field, boundary.humor_open)")
+                                    : std::string()));
+  if (open_humor && s.solid.cavity.closed)
+    at("boundary.humor_open", "key 'boundary.humor_open': an open humor does not hold its "
+                              "volume; it needs cavity.model = \"constant_pressure\"");
   if (humor != HumorInertia::none && !eye && s.mesh.boundary.cavity_wall.empty())
     at("cavity.humor_inertia", "key 'cavity.humor_inertia': " + humor_name + " needs a cavity, "
                                "but boundary.cavity_wall names no group");
@@ -200,7 +207,7 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
                    "(the fluid alone: puff.load = \"air\")");
   const std::vector<std::pair<const char*, const std::vector<std::string>*>> groups
       = {{"fixed", &b.fixed},   {"symmetry", &b.symmetry}, {"axis", &b.axis},
-         {"cavity_wall", &b.cavity_wall},
+         {"cavity_wall", &b.cavity_wall}, {"humor_open", &b.humor_open},
          {"press", &b.press},   {"inlet", &b.inlet},       {"outlet", &b.outlet},
          {"wall", &b.wall},     {"interface", &b.interface}};
   if (!flow)
@@ -394,6 +401,7 @@ void check_file_groups(const scene::Scene& scene, const Settings& s, const meshi
            {"boundary.symmetry", &b.symmetry},
            {"boundary.axis", &b.axis},
            {"boundary.cavity_wall", &b.cavity_wall},
+           {"boundary.humor_open", &b.humor_open},
            {"boundary.press", &b.press},
            {"boundary.inlet", &b.inlet},
            {"boundary.outlet", &b.outlet},

@@ -68,7 +68,7 @@ struct MeshSettings
   struct Boundaries
   {
     std::vector<std::string> fixed, symmetry, axis, cavity_wall, press, inlet, outlet, wall,
-        interface;
+        interface, humor_open;
   } boundary;
   bool eye() const { return source == Source::eye; }
 };
