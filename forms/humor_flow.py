@@ -32,6 +32,23 @@ has dG/du = integral_wall du . J F^-T N q dA + ..., the transpose of
 negative definite pressure block -H / (rho c). Eliminating p~ gives the
 added mass rho B^T H^-1 B on the wall (Morand and Ohayon).
 
+The lid. Where the model is cut (support.py), the humor ends at the lid
+on the cut, which moves with the cut face's mean displacement: its
+normal acceleration into the humor is -1 / A_cut integral_cut a . N dA,
+and (3) gains, with L(q) = integral_lid q dA on the humor's mesh,
+
+    G_lid(q) = W(u) L(q),   W(u) = -1 / A_cut integral_cut (a / c) . N dA,
+
+while the cap carries p~'s resultant on the lid onto the cut face as
+support.py carries the cavity's pressure:
+
+    R_lid(u; v) = -L(p~) / A_cut integral_cut N . v dA.
+
+Their blocks are rank one, -L (x) n / A_cut and its transpose, with
+n(v) = integral_cut N . v dA (`cut_normal`): the system stays
+symmetric. A translating eye then drives p~ = -rho a . (x - x0) + const:
+the humor's translation (humor_inertia.py) is the flow's special case.
+
 The wall's terms (2), (3) are integrated on the solid's mesh, where u, its
 history and the cavity's normal are: the pressure there is a P1 field of
 the solid's mesh per cavity (p_1, p_2), whose wall nodes are the humor
@@ -53,8 +70,8 @@ import dynamics
 import kinematics
 import section
 
-# The solid's facet tags (tags.py).
-from tags import CAVITY_1_WALL, CAVITY_2_WALL
+# The solid's facet tags and the humor's (tags.py).
+from tags import CAVITY_1_WALL, CAVITY_2_WALL, HUMOR_LID, SUPPORT
 
 cell = section.cell(dimension)  # noqa: F821 (set by the wrapper)
 element = VectorElement("Lagrange", cell, degree)  # noqa: F821
@@ -102,6 +119,12 @@ flux_2 = cavity.follower_pressure(q, F, N, a_scaled) * r * ds(CAVITY_2_WALL)
 flux_1_u = derivative(flux_1, u, du)
 flux_2_u = derivative(flux_2, u, du)
 
+# The lid's: the cut face's normal, area, (a / c) . N and u . N.
+cut_normal = inner(N, v3) * r * ds(SUPPORT)
+cut_area = inner(N, N) * r * ds(SUPPORT)
+cut_flux = inner(a_scaled, N) * r * ds(SUPPORT)
+cut_motion = inner(section.vector(u, dimension), N) * r * ds(SUPPORT)  # noqa: F821
+
 # (3)'s humor term, on the humor's mesh (its current geometry).
 p = Coefficient(scalar)       # p~ in the humor [MPa]
 compliance = Constant(cell)   # 1 / (rho c) [mm^2 / MPa]
@@ -109,6 +132,8 @@ radius = section.weight(cell, dimension)  # noqa: F821 (the current r: the mesh 
 dx = Measure("dx", metadata={"quadrature_degree": 0 + weighted})
 laplace = -compliance * inner(grad(p), grad(q)) * radius * dx
 laplace_p = derivative(laplace, p, dp)
+ds_humor = Measure("ds", metadata={"quadrature_degree": 1 + weighted})
+lid_area = q * radius * ds_humor(HUMOR_LID)
 
-forms = [load, load_u, load_p_1, load_p_2, flux_1, flux_2, flux_1_u, flux_2_u, laplace,
-         laplace_p]
+forms = [load, load_u, load_p_1, load_p_2, flux_1, flux_2, flux_1_u, flux_2_u, cut_normal,
+         cut_area, cut_flux, cut_motion, laplace, laplace_p, lid_area]

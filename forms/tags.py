@@ -24,11 +24,14 @@ OUTLET = 1
 INTERFACE = 2
 # forms/mesh_motion.py: the cells whose mesh moves
 MOVING = 1
+# forms/humor_flow.py: the humor's facets on the solid's cut (its lid)
+HUMOR_LID = 1
 
 LAWS = ["HGO", "NEO_HOOKEAN", "SAINT_VENANT_KIRCHHOFF", "COMPRESSIBLE_NEO_HOOKEAN"]
 SOLID_LOADS = ["CAVITY_1_WALL", "PRESS", "CAVITY_2_WALL", "SUPPORT"]
 AIR_FACETS = ["OUTLET", "INTERFACE"]
 MESH_MOTION_CELLS = ["MOVING"]
+HUMOR_FACETS = ["HUMOR_LID"]
 
 
 def header():
@@ -36,7 +39,7 @@ def header():
     lines = ["// Generated from forms/tags.py by the build: do not edit.",
              "#pragma once", "#include <cstdint>", "",
              "namespace nct::forms::tags", "{"]
-    for group in (LAWS, SOLID_LOADS, AIR_FACETS, MESH_MOTION_CELLS):
+    for group in (LAWS, SOLID_LOADS, AIR_FACETS, MESH_MOTION_CELLS, HUMOR_FACETS):
         for name in group:
             lines.append(f"constexpr std::int32_t {name.lower()} = {globals()[name]};")
     lines += ["} // namespace nct::forms::tags", ""]

@@ -8,6 +8,7 @@
 #include "air_ale_p1_full.h"
 #include "air_p1_full.h"
 #include "form_tags.h"
+#include "humor_flow_p2_full_axisymmetric.h"
 #include "humor_inertia_p1_full.h"
 #include "mesh_motion_p1_full_plane.h"
 #include "solid/material.h"
@@ -62,6 +63,22 @@ TEST(FormTags, HumorInertiaOnTheCavityWalls)
 {
   EXPECT_EQ(ids(form_humor_inertia_p1_full_moment, exterior_facet),
             (std::set<int>{tags::cavity_1_wall, tags::cavity_2_wall, tags::support}));
+}
+
+TEST(FormTags, HumorFlowOnTheWallsTheCutAndTheLid)
+{
+  const auto* k = form_humor_flow_p2_full_axisymmetric_load;
+  EXPECT_EQ(ids(k, exterior_facet), (std::set<int>{tags::cavity_1_wall, tags::cavity_2_wall}));
+  EXPECT_EQ(ids(form_humor_flow_p2_full_axisymmetric_flux_1, exterior_facet),
+            std::set<int>{tags::cavity_1_wall});
+  EXPECT_EQ(ids(form_humor_flow_p2_full_axisymmetric_flux_2, exterior_facet),
+            std::set<int>{tags::cavity_2_wall});
+  EXPECT_EQ(ids(form_humor_flow_p2_full_axisymmetric_cut_normal, exterior_facet),
+            std::set<int>{tags::support});
+  // On the humor's mesh: every cell, and its lid.
+  EXPECT_EQ(ids(form_humor_flow_p2_full_axisymmetric_laplace, cell), std::set<int>{everywhere});
+  EXPECT_EQ(ids(form_humor_flow_p2_full_axisymmetric_lid_area, exterior_facet),
+            std::set<int>{tags::humor_lid});
 }
 
 TEST(FormTags, AirOutletAndInterface)

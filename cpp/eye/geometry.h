@@ -50,6 +50,7 @@ struct Refinement
   double size_limbus;   ///< in-plane element size in the limbus [mm]
   double size_sclera;   ///< in-plane element size in the sclera [mm]
   double size_lens;     ///< in-plane element size in the lens (internal structures) [mm]
+  double size_humor;    ///< largest element of the humor's mesh (its flow) [mm]
 };
 
 /// Points and quantities derived from a Geometry.
@@ -147,6 +148,10 @@ void build(const Geometry& g, const Refinement& r);
 /// and nucleus, zonule, vitreous membrane: surfaces 4 to 7) from the axis
 /// to the shell's posterior node at the zonule ring, and "cavity_wall"
 /// split into "aqueous_wall" and "vitreous_wall" (curves 7, 8).
-void build_section(const Geometry& g, const Refinement& r);
+/// With `humor` (one cavity) also the humor inside the inner face, down to
+/// the cut: surface "humor" (tag 8), conforming to "cavity_wall" node for
+/// node, its axis in "axis", its cut in "humor_lid" (curve 9); graded from
+/// the wall's spacing to Refinement::size_humor.
+void build_section(const Geometry& g, const Refinement& r, bool humor = false);
 
 } // namespace nct::eye

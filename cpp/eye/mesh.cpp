@@ -490,7 +490,7 @@ void write_quarter_eye(const QuarterMesh& mesh, bool internal_structures)
   gmsh::model::add("eye");
   const std::array<std::string, group_count> group_names{
       "anterior_cornea", "anterior_sclera", "cavity_wall", "symmetry_x",
-      "symmetry_z",      "fixed",           "aqueous_wall", "vitreous_wall"};
+      "symmetry_z",      "fixed",           "aqueous_wall", "vitreous_wall", "humor_lid"};
   const int parts = internal_structures ? 7 : 3;
   for (int p = 1; p <= parts; ++p) {
     gmsh::model::addDiscreteEntity(3, p);
@@ -511,6 +511,7 @@ void write_quarter_eye(const QuarterMesh& mesh, bool internal_structures)
   }
   for (int s = 1; s <= group_count; ++s) {
     const bool used = internal_structures ? s != static_cast<int>(Group::cavity_wall)
+                                                && s <= static_cast<int>(Group::vitreous_wall)
                                           : s <= static_cast<int>(Group::fixed);
     if (!used)
       continue;

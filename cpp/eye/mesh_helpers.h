@@ -25,10 +25,13 @@ enum class Group
   symmetry_z,
   fixed,
   aqueous_wall,
-  vitreous_wall
+  vitreous_wall,
+  humor_lid
 };
-constexpr int group_count = 8;
+constexpr int group_count = 9;
 constexpr int part_count = 7;
+/// The humor's surface (a section's, with its flow): its physical tag.
+constexpr int humor_tag = part_count + 1;
 /// Physical names of the parts, by Part - 1.
 inline const std::array<std::string, part_count> part_names{
     "cornea", "limbus", "sclera", "lens_cortex", "lens_nucleus", "zonule", "vitreous_membrane"};

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstddef>
 #include <functional>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -47,6 +48,7 @@ struct SectionMesh
   std::vector<std::size_t> tags;
   std::vector<double> coords;
   std::array<std::vector<std::size_t>, part_count> triangles;
+  std::vector<std::size_t> humor; ///< the humor's triangles (with its flow)
   std::array<std::vector<std::size_t>, group_count> segments;
 
   /// Adds the node `tag` at x, exactly on the axis (r = 0) if `on_axis`.
@@ -165,6 +167,79 @@ void add_diaphragm(SectionMesh& section, const Diaphragm& dia, const Refinement&
     section.add_segment(Group::symmetry_x, node(k, 0), node(k + 1, 0));
 }
 
+/// Adds the humor inside the shell's inner face (nodes (layers, j) of the
+/// chart's nc), down to the cut: triangles graded from the wall's spacing
+/// to `size` by gmsh (a model of its own, removed after), on the wall's
+/// own nodes; its axis into "axis", its cut into "humor_lid".
+void add_humor(SectionMesh& section, std::size_t nc, std::size_t layers, double size)
+{
+  const auto wall = [&](std::size_t j) { return layers * nc + j; }; // index into section's nodes
+  const auto at = [&](std::size_t i)
+  { return std::array<double, 3>{section.coords[3 * i], section.coords[3 * i + 1], 0.0}; };
+  gmsh::model::add("humor");
+  std::vector<int> points;
+  for (std::size_t j = 0; j < nc; ++j)
+  {
+    const auto x = at(wall(j));
+    const double before = j > 0 ? std::hypot(x[0] - at(wall(j - 1))[0], x[1] - at(wall(j - 1))[1]) : 0,
+                 after = j + 1 < nc ? std::hypot(x[0] - at(wall(j + 1))[0], x[1] - at(wall(j + 1))[1]) : 0;
+    points.push_back(gmsh::model::geo::addPoint(x[0], x[1], 0, std::max(before, after)));
+  }
+  const double y_cut = at(wall(nc - 1))[1];
+  const int centre = gmsh::model::geo::addPoint(0, y_cut, 0, size);
+  std::vector<int> loop, wall_lines;
+  for (std::size_t j = 0; j + 1 < nc; ++j)
+  {
+    wall_lines.push_back(gmsh::model::geo::addLine(points[j], points[j + 1]));
+    loop.push_back(wall_lines.back());
+  }
+  const int lid = gmsh::model::geo::addLine(points.back(), centre);
+  const int axis = gmsh::model::geo::addLine(centre, points.front());
+  loop.insert(loop.end(), {lid, axis});
+  gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(loop)});
+  for (int l : wall_lines)
+    gmsh::model::geo::mesh::setTransfiniteCurve(l, 2); // the wall's own nodes only
+  gmsh::model::geo::synchronize();
+  gmsh::option::setNumber("Mesh.MeshSizeMax", size);
+  gmsh::model::mesh::generate(2);
+
+  // Its nodes into the section's: the wall's by place, the rest new.
+  std::map<std::array<double, 2>, std::size_t> wall_tag;
+  for (std::size_t j = 0; j < nc; ++j)
+    wall_tag[{at(wall(j))[0], at(wall(j))[1]}] = section.tags[wall(j)];
+  std::size_t next = *std::max_element(section.tags.begin(), section.tags.end()) + 1;
+  std::vector<std::size_t> node_tags;
+  std::vector<double> coords, parametric;
+  gmsh::model::mesh::getNodes(node_tags, coords, parametric);
+  std::map<std::size_t, std::size_t> tag_of;
+  for (std::size_t i = 0; i < node_tags.size(); ++i)
+  {
+    const auto it = wall_tag.find({coords[3 * i], coords[3 * i + 1]});
+    if (it != wall_tag.end())
+      tag_of[node_tags[i]] = it->second;
+    else
+    {
+      const bool on_axis = std::abs(coords[3 * i]) < 1e-12;
+      section.add_node(next, {on_axis ? 0.0 : coords[3 * i], coords[3 * i + 1]}, on_axis);
+      tag_of[node_tags[i]] = next++;
+    }
+  }
+  std::vector<int> types;
+  std::vector<std::vector<std::size_t>> elements, element_nodes;
+  gmsh::model::mesh::getElements(types, elements, element_nodes, 2);
+  for (std::size_t t = 0; t < types.size(); ++t)
+    for (auto n : element_nodes[t])
+      section.humor.push_back(tag_of.at(n));
+  for (auto [line, group] : {std::pair{lid, Group::humor_lid}, std::pair{axis, Group::symmetry_x}})
+  {
+    gmsh::model::mesh::getElements(types, elements, element_nodes, 1, line);
+    for (std::size_t t = 0; t < types.size(); ++t)
+      for (std::size_t e = 0; e + 1 < element_nodes[t].size(); e += 2)
+        section.add_segment(group, tag_of.at(element_nodes[t][e]), tag_of.at(element_nodes[t][e + 1]));
+  }
+  gmsh::model::remove();
+}
+
 /// Writes the eye's section into a new gmsh model "eye": the nodes, the
 /// triangles by part (3 parts, or all with the internal structures) and
 /// the boundary segments by group.
@@ -181,6 +256,13 @@ void write_section(const SectionMesh& section, bool internal_structures)
     gmsh::model::addPhysicalGroup(2, {p}, p);
     gmsh::model::setPhysicalName(2, p, part_names[p - 1]);
   }
+  if (!section.humor.empty())
+  {
+    gmsh::model::addDiscreteEntity(2, humor_tag);
+    add_elements(next, humor_tag, 2, section.humor, 3);
+    gmsh::model::addPhysicalGroup(2, {humor_tag}, humor_tag);
+    gmsh::model::setPhysicalName(2, humor_tag, "humor");
+  }
   std::vector<std::pair<Group, const char*>> groups{
       {Group::anterior_cornea, "anterior_cornea"}, {Group::anterior_sclera, "anterior_sclera"},
       {Group::symmetry_x, "axis"}, {Group::fixed, "fixed"}};
@@ -189,6 +271,8 @@ void write_section(const SectionMesh& section, bool internal_structures)
                                  {Group::vitreous_wall, "vitreous_wall"}});
   else
     groups.emplace_back(Group::cavity_wall, "cavity_wall");
+  if (!section.humor.empty())
+    groups.emplace_back(Group::humor_lid, "humor_lid");
   for (auto [group, name] : groups) {
     const int g = static_cast<int>(group);
     gmsh::model::addDiscreteEntity(1, g);
@@ -204,7 +288,7 @@ void write_section(const SectionMesh& section, bool internal_structures)
 /// with the internal structures, the diaphragm's sweep on its chart in
 /// rho likewise, its layers meeting the shell's posterior node at the
 /// zonule ring (the 3D eye's ring arc, here a point).
-void mesh_section(const Shape& shape, const Refinement& ref)
+void mesh_section(const Shape& shape, const Refinement& ref, bool humor)
 {
   const std::size_t layers = static_cast<std::size_t>(ref.layers);
   const Diaphragm& dia = shape.diaphragm;
@@ -214,17 +298,22 @@ void mesh_section(const Shape& shape, const Refinement& ref)
   add_shell(section, shape, chart, layers, ring);
   if (dia.on)
     add_diaphragm(section, dia, ref, chart, layers, ring);
+  if (humor && dia.on)
+    throw std::invalid_argument("the humor's mesh has one cavity: not with the internal "
+                                "structures yet");
+  if (humor)
+    add_humor(section, chart.size(), layers, ref.size_humor);
   write_section(section, dia.on);
 }
 
 } // namespace
 
-void build_section(const Geometry& g, const Refinement& r)
+void build_section(const Geometry& g, const Refinement& r, bool humor)
 {
   check_refinement(g, r);
   const Shape shape = derive_shape(g);
   try {
-    mesh_section(shape, r);
+    mesh_section(shape, r, humor);
   } catch (const std::string& message) { // gmsh 4.8 throws its last error as a string
     throw std::runtime_error("nct::eye::build_section: gmsh failed: " + message);
   }

@@ -32,7 +32,7 @@ struct Kernels
   ufcx_function_space* (*space)(const char*);        ///< the solid mesh's (p_1)
   ufcx_function_space* (*humor_space)(const char*);  ///< the humor mesh's (p)
   ufcx_form *load, *load_u, *load_p_1, *load_p_2, *flux_1, *flux_2, *flux_1_u, *flux_2_u,
-      *laplace, *laplace_p;
+      *cut_normal, *cut_area, *cut_flux, *cut_motion, *laplace, *laplace_p, *lid_area;
 };
 
 #define NCT_FLOW_KERNELS(v)                                                                  \
@@ -46,8 +46,13 @@ struct Kernels
           form_humor_flow_##v##_flux_2,                                                      \
           form_humor_flow_##v##_flux_1_u,                                                    \
           form_humor_flow_##v##_flux_2_u,                                                    \
+          form_humor_flow_##v##_cut_normal,                                                  \
+          form_humor_flow_##v##_cut_area,                                                    \
+          form_humor_flow_##v##_cut_flux,                                                    \
+          form_humor_flow_##v##_cut_motion,                                                  \
           form_humor_flow_##v##_laplace,                                                     \
-          form_humor_flow_##v##_laplace_p}
+          form_humor_flow_##v##_laplace_p,                                                   \
+          form_humor_flow_##v##_lid_area}
 
 #define NCT_FLOW_KERNELS_OF(degree, d)                                                       \
   return degree == 1 ? NCT_FLOW_KERNELS(p1_full##d) : NCT_FLOW_KERNELS(p2_full##d);
@@ -192,6 +197,13 @@ Flow::Flow(solid::Problem& solid, const meshio::Tagged& humor, const Boundaries&
     }
     for (auto f : facets_of(humor, wall_groups))
       tag[f] = 0;
+    // The lid moves with the cut: given, like the wall.
+    const auto lid = facets_of(humor, boundaries.lid);
+    for (auto f : lid)
+      tag[f] = 0;
+    if (!lid.empty() || !boundaries.lid.empty())
+      _lid_tags = std::make_shared<mesh::MeshTags<std::int32_t>>(
+          humor.mesh, fdim, lid, std::vector<std::int32_t>(lid.size(), forms::tags::humor_lid));
     std::vector<std::int32_t> facets, values;
     for (auto [f, t] : tag)
       facets.push_back(f), values.push_back(t);
@@ -391,6 +403,10 @@ void Flow::pair(const meshio::Tagged& humor, const Boundaries& boundaries)
   for (std::int32_t b = 0; b < D.dofmap()->index_map->size_local(); ++b)
     if (auto it = by_place.find({XD[3 * b], XD[3 * b + 1], XD[3 * b + 2]}); it != by_place.end())
       _mesh_dofs.push_back({b, it->second});
+  if (_lid_tags)
+    for (auto b : fem::locate_dofs_topological(D, fdim, _lid_tags->indices()))
+      if (b < D.dofmap()->index_map->size_local())
+        _lid_mesh_dofs.push_back(b);
 }
 
 void Flow::make_forms()
@@ -430,6 +446,83 @@ void Flow::make_forms()
   _flux_u = {make(k.flux_1_u, {S, V}, walls), make(k.flux_2_u, {S, V}, walls)};
   _laplace = make(k.laplace, {Q}, {});
   _laplace_p = make(k.laplace_p, {Q, Q}, {});
+  if (_lid_tags)
+  {
+    _cut_normal = make(k.cut_normal, {V}, walls);
+    _lid_area = make(k.lid_area, {Q}, {{fem::IntegralType::exterior_facet, _lid_tags.get()}});
+    // Functionals: on the solid's mesh.
+    auto functional = [&](const ufcx_form* form)
+    {
+      std::map<std::string, std::shared_ptr<const fem::Function<double>>> w;
+      for (int i = 0; i < form->num_coefficients; ++i)
+        w[form->coefficient_name_map()[i]] = coefficients.at(form->coefficient_name_map()[i]);
+      std::map<std::string, std::shared_ptr<const fem::Constant<double>>> c;
+      for (int i = 0; i < form->num_constants; ++i)
+        c[form->constant_name_map()[i]] = constants.at(form->constant_name_map()[i]);
+      return std::make_shared<fem::Form<double>>(
+          fem::create_form<double>(*form, {}, w, c, walls, V->mesh()));
+    };
+    _cut_area = functional(k.cut_area);
+    _cut_flux = functional(k.cut_flux);
+    _cut_motion = functional(k.cut_motion);
+  }
+}
+
+double Flow::total(const fem::Form<double>& form) const
+{
+  double v = fem::assemble_scalar(form);
+  MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_DOUBLE, MPI_SUM, _humor_mesh->comm());
+  return v;
+}
+
+void Flow::measure_cut()
+{
+  _cut_area_value = total(*_cut_area);
+  la::Vector<double> n(_b_solid->map(), _b_solid->bs());
+  fem::assemble_vector(n.mutable_array(), *_cut_normal);
+  n.scatter_rev(std::plus<double>());
+  const int bs = _b_solid->bs();
+  _n_block.assign(n.array().begin(), n.array().begin() + _solid_owned);
+  _n_mine.clear();
+  _cut_normal_mean = {0, 0, 0};
+  for (std::int32_t i = 0; i < _solid_owned; ++i)
+  {
+    // n dotted with the unit fields e_k: the cut's integral of N_k.
+    _cut_normal_mean[i % bs] += _n_block[i];
+    if (!_solid_held[i] && _n_block[i] != 0)
+      _n_mine.push_back({_unknowns->global(0)[i], _n_block[i]});
+  }
+  MPI_Allreduce(MPI_IN_PLACE, _cut_normal_mean.data(), 3, MPI_DOUBLE, MPI_SUM,
+                _humor_mesh->comm());
+  for (double& x : _cut_normal_mean)
+    x /= _cut_area_value;
+  _n_all.clear();
+  std::vector<double> mine;
+  for (auto [g, v] : _n_mine)
+    mine.insert(mine.end(), {double(g), v});
+  const auto all = meshio::all_gather(_humor_mesh->comm(), mine);
+  for (std::size_t i = 0; i + 1 < all.size(); i += 2)
+    _n_all.push_back({std::int64_t(all[i]), all[i + 1]});
+}
+
+void Flow::measure_lid()
+{
+  auto L = *_b_humor;
+  std::fill(L.mutable_array().begin(), L.mutable_array().end(), 0.0);
+  fem::assemble_vector(L.mutable_array(), *_lid_area);
+  L.scatter_rev(std::plus<double>());
+  _L_block.assign(L.array().begin(), L.array().begin() + _humor_owned);
+  _L_mine.clear();
+  for (std::int32_t b = 0; b < _humor_owned; ++b)
+    if (_L_block[b] != 0 && _unknowns->global(1)[b] >= 0)
+      _L_mine.push_back({_unknowns->global(1)[b], _L_block[b]});
+  _L_all.clear();
+  std::vector<double> mine;
+  for (auto [g, v] : _L_mine)
+    mine.insert(mine.end(), {double(g), v});
+  const auto all = meshio::all_gather(_humor_mesh->comm(), mine);
+  for (std::size_t i = 0; i + 1 < all.size(); i += 2)
+    _L_all.push_back({std::int64_t(all[i]), all[i + 1]});
 }
 
 void Flow::set_compliance()
@@ -498,6 +591,21 @@ void Flow::residual(la::Vector<double>& b)
   for (auto [d, k] : _humor_dofs)
     if (d < _humor_owned)
       bh[d] += flux[k];
+  if (_lid_tags && _cut_area_value > 0)
+  {
+    // The lid: R_lid = -L(p~) / A_cut n, G_lid = W L.
+    double Lp = 0;
+    const auto x = p->x()->array();
+    for (std::int32_t b = 0; b < _humor_owned; ++b)
+      Lp += _L_block[b] * x[b];
+    MPI_Allreduce(MPI_IN_PLACE, &Lp, 1, MPI_DOUBLE, MPI_SUM, _humor_mesh->comm());
+    for (std::int32_t i = 0; i < _solid_owned; ++i)
+      if (!_solid_held[i])
+        bs[i] -= Lp / _cut_area_value * _n_block[i];
+    const double W = -total(*_cut_flux) / _cut_area_value;
+    for (std::int32_t b = 0; b < _humor_owned; ++b)
+      bh[b] += W * _L_block[b];
+  }
   std::fill(b.mutable_array().begin(), b.mutable_array().end(), 0.0);
   _unknowns->insert(0, bs, b);
   _unknowns->insert(1, bh, b);
@@ -528,6 +636,27 @@ void Flow::add_jacobian(Mat A)
   {
     fem::assemble_matrix(solver::add_block(A, _load_p_block[c]), *_load_p[c], {});
     fem::assemble_matrix(solver::add_block(A, _flux_u_block[c]), *_flux_u[c], {});
+  }
+  if (_lid_tags && _cut_area_value > 0)
+  {
+    // The lid's rank-one blocks, each rank its own rows.
+    auto add = [&](const std::vector<std::pair<std::int64_t, double>>& rows,
+                   const std::vector<std::pair<std::int64_t, double>>& cols)
+    {
+      std::vector<PetscInt> c;
+      std::vector<PetscScalar> v(cols.size());
+      for (auto [g, x] : cols)
+        c.push_back(static_cast<PetscInt>(g));
+      for (auto [g, x] : rows)
+      {
+        const PetscInt r = static_cast<PetscInt>(g);
+        for (std::size_t j = 0; j < cols.size(); ++j)
+          v[j] = -x * cols[j].second / _cut_area_value;
+        MatSetValues(A, 1, &r, static_cast<PetscInt>(c.size()), c.data(), v.data(), ADD_VALUES);
+      }
+    };
+    add(_n_mine, _L_all);
+    add(_L_mine, _n_all);
   }
   lap("wall");
 }
@@ -627,6 +756,14 @@ void Flow::follow_wall()
   std::span<double> x = _humor_mesh->geometry().x();
   std::copy(_x_built.begin(), _x_built.end(), x.begin());
   std::vector<std::pair<std::int32_t, std::array<double, 3>>> g;
+  if (_lid_tags && _cut_area_value > 0)
+  {
+    // The lid moves with the cut face's mean normal displacement.
+    const double m = total(*_cut_motion) / _cut_area_value;
+    for (auto b : _lid_mesh_dofs)
+      g.push_back({b, {m * _cut_normal_mean[0], m * _cut_normal_mean[1],
+                       m * _cut_normal_mean[2]}});
+  }
   for (auto [b, k] : _mesh_dofs)
     g.push_back({b, {now[3 * k] - _pairs[k].place[0], now[3 * k + 1] - _pairs[k].place[1],
                      now[3 * k + 2] - _pairs[k].place[2]}});
@@ -646,10 +783,14 @@ void Flow::follow_wall()
         x[3 * nodes[i] + j] = _x_built[3 * nodes[i] + j] + d[bs * dofs[i] + j];
   }
   _timings["mesh_motion"] += MPI_Wtime() - t;
+  if (_lid_tags)
+    measure_lid();
 }
 
 void Flow::start()
 {
+  if (_lid_tags)
+    measure_cut();
   follow_wall();
   std::fill(p->x()->mutable_array().begin(), p->x()->mutable_array().end(), 0.0);
   _unknowns->pack();

@@ -29,12 +29,14 @@ namespace nct::humor_flow
 /// The humor mesh's groups: per cavity, its volume groups and the facet
 /// groups it shares with the solid's wall of that cavity; the axis of an
 /// axisymmetric section and the symmetry planes, on which the humor mesh
-/// slides; openings at the cavity's pressure (p~ = 0, the mesh held).
-/// Every other boundary facet is a rigid wall (dp/dn = 0, the mesh held).
+/// slides; openings at the cavity's pressure (p~ = 0, the mesh held); the
+/// lid on the solid's cut, which moves with the cut face's mean normal
+/// displacement (forms/support.py). Every other boundary facet is a rigid
+/// wall (dp/dn = 0, the mesh held).
 struct Boundaries
 {
   std::vector<std::vector<std::int32_t>> volumes, walls; ///< per cavity
-  std::vector<std::int32_t> axis, symmetry, open;
+  std::vector<std::int32_t> axis, symmetry, open, lid;
 };
 
 /// The humors' pressure p = P_c + p~ (P_c the closed cavity's multiplier)
@@ -110,6 +112,13 @@ private:
   void follow_wall();
   /// 1 / (rho c) of the solid's time step [mm^2/MPa].
   void set_compliance();
+  /// The lid's constants on the solid's reference geometry: the cut's
+  /// area, mean normal and n(v) = integral_cut N . v dA.
+  void measure_cut();
+  /// L(q) = integral_lid q dA on the humor's current geometry.
+  void measure_lid();
+  /// A scalar form summed over the ranks.
+  double total(const dolfinx::fem::Form<double>& form) const;
 
   solid::Problem& _solid;
   std::shared_ptr<dolfinx::mesh::Mesh> _humor_mesh;
@@ -144,6 +153,18 @@ private:
   std::array<solver::BlockIndices, 2> _load_p_block, _flux_u_block;
   std::unique_ptr<dolfinx::la::Vector<double>> _b_solid, _b_humor, _b_scalar;
   std::map<std::string, double> _timings;
+
+  /// The lid (forms/humor_flow.py); without one, the forms are null.
+  std::shared_ptr<dolfinx::fem::Form<double>> _cut_normal, _cut_area, _cut_flux, _cut_motion,
+      _lid_area;
+  std::shared_ptr<dolfinx::mesh::MeshTags<std::int32_t>> _lid_tags;
+  double _cut_area_value = 0;
+  std::array<double, 3> _cut_normal_mean{0, 0, 0};
+  /// n on the solid's free owned dofs and L on the humor's, each as
+  /// (stacked index, value): this rank's, and every rank's.
+  std::vector<std::pair<std::int64_t, double>> _n_mine, _n_all, _L_mine, _L_all;
+  std::vector<double> _n_block, _L_block; ///< laid out as u's and p's owned entries
+  std::vector<std::int32_t> _lid_mesh_dofs; ///< the humor mesh displacement's owned lid nodes
 };
 
 } // namespace nct::humor_flow

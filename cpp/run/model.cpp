@@ -120,13 +120,15 @@ eye_meshes(MPI_Comm comm, const Input& in, bool solid, bool air)
   const Settings& s = in.settings;
   const eye::Geometry& g = s.mesh.geometry;
   const bool with_eye = solid || s.air.rigid_eye;
+  // The humor's mesh, for its flow (cavity.humor_inertia = "flow").
+  const bool flow = solid && s.solid.cavity.humor_inertia == CavitySettings::HumorInertia::flow;
   meshio::GmshSession gmsh_session;
   const section::Dimension dimension = s.mesh.dimension;
   on_rank_0(comm, in, "the eye and the air",
             [&]
             {
               if (with_eye && dimension == section::Dimension::axisymmetric)
-                eye::build_section(g, s.mesh.refinement);
+                eye::build_section(g, s.mesh.refinement, flow);
               else if (with_eye)
                 eye::build(g, s.mesh.refinement);
               if (air)
@@ -148,16 +150,26 @@ eye_meshes(MPI_Comm comm, const Input& in, bool solid, bool air)
   }
   if (!solid)
     return {std::nullopt, std::move(a)};
-  if (!air)
+  if (!air && !flow)
     return {eye_setup(meshio::distribute(comm, whole), g, in.built.eye, dimension),
             std::nullopt};
   std::vector<std::int32_t> eye_tags;
+  const auto humor_group = whole.groups.volumes.find("humor");
+  const std::int32_t humor
+      = humor_group == whole.groups.volumes.end() ? -1 : humor_group->second;
   for (auto& [name, tag] : whole.groups.volumes)
-    if (tag != static_cast<std::int32_t>(air::Group::volume))
+    if (tag != static_cast<std::int32_t>(air::Group::volume) && tag != humor)
       eye_tags.push_back(tag);
-  return {eye_setup(meshio::distribute(comm, meshio::keep(whole, eye_tags)), g, in.built.eye,
-                    dimension),
-          std::move(a)};
+  MeshSetup m = eye_setup(meshio::distribute(comm, meshio::keep(whole, eye_tags)), g,
+                          in.built.eye, dimension);
+  if (flow)
+  {
+    const auto& gs = whole.groups;
+    m.humor = meshio::distribute(comm, meshio::keep(whole, {humor}));
+    m.humor_boundaries = {{{humor}}, {{group(gs, "cavity_wall")}}, {group(gs, "axis")}, {}, {},
+                          {{group(gs, "humor_lid")}}};
+  }
+  return {std::move(m), std::move(a)};
 }
 
 /// An external mesh (opened by the scene's check): the solid's volume
@@ -238,7 +250,7 @@ std::pair<std::optional<MeshSetup>, std::optional<AirMesh>> file_meshes(MPI_Comm
     m.cavity_names = {"cavity"};
   if (m.humor)
     m.humor_boundaries = {{humor_tags},       {tags(bs.cavity_wall)}, tags(bs.axis),
-                          tags(bs.symmetry), tags(bs.humor_open)};
+                          tags(bs.symmetry), tags(bs.humor_open), {}};
   for (auto& [name, tag] : groups.volumes)
     if (std::find(solid_tags.begin(), solid_tags.end(), tag) != solid_tags.end())
       m.parts[tag] = name;

@@ -106,6 +106,11 @@ void visit(scene::Visitor& v, Refinement& r)
   v.real({"mesh.size_lens", "0.8", "mm", 0.05, 5,
           "eye: in-plane element size in the lens and zonule", on_internal},
          r.size_lens);
+  v.real({"mesh.size_humor", "0.5", "mm", 0.01, 10,
+          "eye: largest element of the humor's mesh (cavity.humor_inertia = \"flow\"), graded "
+          "from the wall's spacing",
+          "mesh.source=eye,cavity.humor_inertia=flow"},
+         r.size_humor);
 }
 
 void visit(scene::Visitor& v, Geometry& g)

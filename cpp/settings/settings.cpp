@@ -139,11 +139,14 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
   if (humor != HumorInertia::none && !eye && s.mesh.boundary.cavity_wall.empty())
     at("cavity.humor_inertia", "key 'cavity.humor_inertia': " + humor_name + " needs a cavity, "
                                "but boundary.cavity_wall names no group");
-  if (humor == HumorInertia::flow && eye)
+  if (humor == HumorInertia::flow && eye
+      && (s.mesh.dimension != section::Dimension::axisymmetric
+          || s.mesh.geometry.internal_structures))
     at("cavity.humor_inertia", "key 'cavity.humor_inertia': \"flow\" needs the humor's mesh, "
-                               "which the idealised eye does not build yet: a file mesh "
-                               "(mesh.source = \"file\") with cavity.humor_groups, or "
-                               "\"translation\"");
+                               "which the idealised eye builds on its axisymmetric section "
+                               "without internal structures only (mesh.dimension = "
+                               "\"axisymmetric\"), not yet in 3D or with the lens; or a file "
+                               "mesh with cavity.humor_groups, or \"translation\"");
   if (humor == HumorInertia::flow && !eye && s.solid.cavity.humor_groups.empty())
     at("cavity.humor_groups", "key 'cavity.humor_groups': cavity.humor_inertia = \"flow\" "
                               "needs the humor's volume groups, but it names none");
