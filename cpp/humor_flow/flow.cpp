@@ -215,38 +215,22 @@ Flow::Flow(solid::Problem& solid, const meshio::Tagged& humor, const Boundaries&
   }
 
   choose_held_nodes(humor, boundaries);
-  std::vector<std::int32_t> active;
   _humor_owned = Q->dofmap()->index_map->size_local();
   for (std::int32_t b = 0; b < _humor_owned; ++b)
     if (!std::binary_search(_held.begin(), _held.end(), b))
-      active.push_back(b);
-  _unknowns = std::make_unique<solver::Monolithic>(
-      humor.mesh->comm(), std::vector<solver::Monolithic::Field>{{"solid", solid.u, std::nullopt},
-                                                                {"humor_flow", p, active}});
-  _solid_owned = _unknowns->owned(0);
+      _active.push_back(b);
   _scalar_owned = S->dofmap()->index_map->size_local();
   pair(humor, boundaries);
-
-  const auto& U = *_unknowns;
-  _solid_held = solid.dynamic_dirichlet_marker(); // the system runs in the dynamics
-  _solid_block = {U.global(0), U.global(0), {}, gdim, gdim};
-  for (std::size_t i = 0; i < _solid_held.size(); ++i)
-    if (_solid_held[i])
-      _solid_block.rows[i] = _solid_block.cols[i] = -1;
-  _humor_block = {U.global(1), U.global(1), {}, 1, 1};
-  const std::size_t scalars = S->dofmap()->index_map->size_local()
-                              + S->dofmap()->index_map->num_ghosts();
-  for (std::size_t c = 0; c < cavities; ++c)
-  {
-    std::vector<std::int64_t> rows(scalars, -1);
-    for (auto& d : _solid_dofs[c])
-      rows[d.dof] = _pairs[d.k].row;
-    _load_p_block[c] = {_solid_block.rows, rows, {}, gdim, 1};
-    _flux_u_block[c] = {rows, _solid_block.cols, {}, 1, gdim};
-  }
+  _solid_held = solid.dynamic_dirichlet_marker(); // the systems run in the dynamics
   _b_solid = std::make_unique<la::Vector<double>>(solid.u->x()->map(), solid.u->x()->bs());
+  _solid_owned = solid.u->x()->map()->size_local() * solid.u->x()->bs();
   _b_humor = std::make_unique<la::Vector<double>>(p->x()->map(), 1);
   _b_scalar = std::make_unique<la::Vector<double>>(S->dofmap()->index_map, 1);
+  // The solid with the humor alone (no air): a system of its own.
+  _own_unknowns = std::make_unique<solver::Monolithic>(
+      humor.mesh->comm(),
+      std::vector<solver::Monolithic::Field>{{"solid", solid.u, std::nullopt}, field()});
+  _own = place(*_own_unknowns, 0, 1);
   make_forms();
 }
 
@@ -322,7 +306,6 @@ void Flow::choose_held_nodes(const meshio::Tagged& humor, const Boundaries& boun
 void Flow::pair(const meshio::Tagged& humor, const Boundaries& boundaries)
 {
   MPI_Comm comm = humor.mesh->comm();
-  const auto& U = *_unknowns;
   auto& Q = *p->function_space();
   const int fdim = humor.mesh->topology().dim() - 1;
   const auto XQ = vertex_places(Q);
@@ -332,12 +315,10 @@ void Flow::pair(const meshio::Tagged& humor, const Boundaries& boundaries)
   for (std::size_t c = 0; c < boundaries.walls.size(); ++c)
     for (auto b : fem::locate_dofs_topological(Q, fdim, facets_of(humor, boundaries.walls[c])))
       if (b < _humor_owned)
-        mine.insert(mine.end(), {double(c), XQ[3 * b], XQ[3 * b + 1], XQ[3 * b + 2],
-                                 double(U.global(1)[b])});
+        mine.insert(mine.end(), {double(c), XQ[3 * b], XQ[3 * b + 1], XQ[3 * b + 2]});
   const auto all = meshio::all_gather(comm, mine);
-  for (std::size_t i = 0; i < all.size() / 5; ++i)
-    _pairs.push_back({int(all[5 * i]), {all[5 * i + 1], all[5 * i + 2], all[5 * i + 3]},
-                      std::int64_t(all[5 * i + 4])});
+  for (std::size_t i = 0; i < all.size() / 4; ++i)
+    _pairs.push_back({int(all[4 * i]), {all[4 * i + 1], all[4 * i + 2], all[4 * i + 3]}});
   std::sort(_pairs.begin(), _pairs.end(), [](const Pair& a, const Pair& b)
             { return std::tie(a.cavity, a.place) < std::tie(b.cavity, b.place); });
   std::map<std::pair<int, Place>, std::size_t> at;
@@ -483,46 +464,23 @@ void Flow::measure_cut()
   n.scatter_rev(std::plus<double>());
   const int bs = _b_solid->bs();
   _n_block.assign(n.array().begin(), n.array().begin() + _solid_owned);
-  _n_mine.clear();
+  // n dotted with the unit fields e_k: the cut's integral of N_k.
   _cut_normal_mean = {0, 0, 0};
   for (std::int32_t i = 0; i < _solid_owned; ++i)
-  {
-    // n dotted with the unit fields e_k: the cut's integral of N_k.
     _cut_normal_mean[i % bs] += _n_block[i];
-    if (!_solid_held[i] && _n_block[i] != 0)
-      _n_mine.push_back({_unknowns->global(0)[i], _n_block[i]});
-  }
   MPI_Allreduce(MPI_IN_PLACE, _cut_normal_mean.data(), 3, MPI_DOUBLE, MPI_SUM,
                 _humor_mesh->comm());
   for (double& x : _cut_normal_mean)
     x /= _cut_area_value;
-  _n_all.clear();
-  std::vector<double> mine;
-  for (auto [g, v] : _n_mine)
-    mine.insert(mine.end(), {double(g), v});
-  const auto all = meshio::all_gather(_humor_mesh->comm(), mine);
-  for (std::size_t i = 0; i + 1 < all.size(); i += 2)
-    _n_all.push_back({std::int64_t(all[i]), all[i + 1]});
 }
 
 void Flow::measure_lid()
 {
-  auto L = *_b_humor;
+  auto& L = *_b_humor;
   std::fill(L.mutable_array().begin(), L.mutable_array().end(), 0.0);
   fem::assemble_vector(L.mutable_array(), *_lid_area);
   L.scatter_rev(std::plus<double>());
   _L_block.assign(L.array().begin(), L.array().begin() + _humor_owned);
-  _L_mine.clear();
-  for (std::int32_t b = 0; b < _humor_owned; ++b)
-    if (_L_block[b] != 0 && _unknowns->global(1)[b] >= 0)
-      _L_mine.push_back({_unknowns->global(1)[b], _L_block[b]});
-  _L_all.clear();
-  std::vector<double> mine;
-  for (auto [g, v] : _L_mine)
-    mine.insert(mine.end(), {double(g), v});
-  const auto all = meshio::all_gather(_humor_mesh->comm(), mine);
-  for (std::size_t i = 0; i + 1 < all.size(); i += 2)
-    _L_all.push_back({std::int64_t(all[i]), all[i + 1]});
 }
 
 void Flow::set_compliance()
@@ -550,7 +508,35 @@ void Flow::set_wall_pressures()
   }
 }
 
-void Flow::residual(la::Vector<double>& b)
+solver::Monolithic::Field Flow::field() const { return {"humor_flow", p, _active}; }
+
+Flow::Placement Flow::place(const solver::Monolithic& U, std::size_t solid, std::size_t humor) const
+{
+  const int gdim = _humor_mesh->geometry().dim();
+  Placement at{&U, solid, humor, {U.global(solid), U.global(solid), {}, gdim, gdim},
+               {U.global(humor), U.global(humor), {}, 1, 1}, {}, {}};
+  for (std::size_t i = 0; i < _solid_held.size(); ++i)
+    if (_solid_held[i])
+      at.solid_block.rows[i] = at.solid_block.cols[i] = -1;
+  // Each wall node's p~ in this system.
+  std::vector<double> rows(_pairs.size(), 0.0);
+  for (auto [b, k] : _humor_dofs)
+    if (b < _humor_owned)
+      rows[k] = double(U.global(humor)[b]);
+  sum(_humor_mesh->comm(), rows);
+  const std::size_t scalars = _b_scalar->map()->size_local() + _b_scalar->map()->num_ghosts();
+  for (std::size_t c = 0; c < 2; ++c)
+  {
+    std::vector<std::int64_t> row(scalars, -1);
+    for (auto& d : _solid_dofs[c])
+      row[d.dof] = std::int64_t(rows[d.k]);
+    at.load_p[c] = {at.solid_block.rows, row, {}, gdim, 1};
+    at.flux_u[c] = {row, at.solid_block.cols, {}, 1, gdim};
+  }
+  return at;
+}
+
+void Flow::add_residual(std::span<double> bs, std::span<double> bh)
 {
   double t = MPI_Wtime();
   auto lap = [&](const char* part)
@@ -560,14 +546,12 @@ void Flow::residual(la::Vector<double>& b)
     t = now;
   };
   set_compliance();
-  _solid.residual(*_b_solid);
-  lap("solid");
+  set_wall_pressures();
   // The wall's load, on the solid's free rows.
   auto& load = *_b_scalar; // reused below for the flux
   la::Vector<double> wall(_b_solid->map(), _b_solid->bs());
   fem::assemble_vector(wall.mutable_array(), *_load);
   wall.scatter_rev(std::plus<double>());
-  auto bs = _b_solid->mutable_array();
   for (std::int32_t i = 0; i < _solid_owned; ++i)
     if (!_solid_held[i])
       bs[i] += wall.array()[i];
@@ -575,6 +559,7 @@ void Flow::residual(la::Vector<double>& b)
   std::fill(_b_humor->mutable_array().begin(), _b_humor->mutable_array().end(), 0.0);
   fem::assemble_vector(_b_humor->mutable_array(), *_laplace);
   _b_humor->scatter_rev(std::plus<double>());
+  std::copy_n(_b_humor->array().begin(), _humor_owned, bh.begin());
   lap("humor");
   std::vector<double> flux(_pairs.size(), 0.0);
   for (std::size_t c = 0; c < 2; ++c)
@@ -587,7 +572,6 @@ void Flow::residual(la::Vector<double>& b)
         flux[d.k] += load.array()[d.dof];
   }
   sum(_humor_mesh->comm(), flux);
-  auto bh = _b_humor->mutable_array();
   for (auto [d, k] : _humor_dofs)
     if (d < _humor_owned)
       bh[d] += flux[k];
@@ -606,13 +590,11 @@ void Flow::residual(la::Vector<double>& b)
     for (std::int32_t b = 0; b < _humor_owned; ++b)
       bh[b] += W * _L_block[b];
   }
-  std::fill(b.mutable_array().begin(), b.mutable_array().end(), 0.0);
-  _unknowns->insert(0, bs, b);
-  _unknowns->insert(1, bh, b);
+  // Held p~: no rows (their entries are left out of the system).
   lap("wall");
 }
 
-void Flow::add_jacobian(Mat A)
+void Flow::add_jacobian(const Placement& at, Mat A)
 {
   double t = MPI_Wtime();
   auto lap = [&](const char* part)
@@ -622,74 +604,100 @@ void Flow::add_jacobian(Mat A)
     t = now;
   };
   set_compliance();
-  for (const auto* J : _solid.jacobian_forms())
-    fem::assemble_matrix(solver::add_block(A, _solid_block), *J, {});
-  const auto& U = *_unknowns;
-  for (std::int32_t i = 0; i < U.owned(0); ++i)
-    if (_solid_held[i] && U.global(0)[i] >= 0)
-      MatSetValue(A, U.global(0)[i], U.global(0)[i], 1.0, ADD_VALUES);
-  lap("solid");
-  fem::assemble_matrix(solver::add_block(A, _humor_block), *_laplace_p, {});
+  set_wall_pressures();
+  fem::assemble_matrix(solver::add_block(A, at.humor_block), *_laplace_p, {});
   lap("humor");
-  fem::assemble_matrix(solver::add_block(A, _solid_block), *_load_u, {});
+  fem::assemble_matrix(solver::add_block(A, at.solid_block), *_load_u, {});
   for (std::size_t c = 0; c < 2; ++c)
   {
-    fem::assemble_matrix(solver::add_block(A, _load_p_block[c]), *_load_p[c], {});
-    fem::assemble_matrix(solver::add_block(A, _flux_u_block[c]), *_flux_u[c], {});
+    fem::assemble_matrix(solver::add_block(A, at.load_p[c]), *_load_p[c], {});
+    fem::assemble_matrix(solver::add_block(A, at.flux_u[c]), *_flux_u[c], {});
   }
   if (_lid_tags && _cut_area_value > 0)
   {
-    // The lid's rank-one blocks, each rank its own rows.
-    auto add = [&](const std::vector<std::pair<std::int64_t, double>>& rows,
-                   const std::vector<std::pair<std::int64_t, double>>& cols)
+    // The lid's rank-one blocks -n (x) L / A_cut and its transpose, each
+    // rank its own rows.
+    const auto& U = *at.U;
+    std::vector<double> n_mine, L_mine;
+    for (std::int32_t i = 0; i < _solid_owned; ++i)
+      if (!_solid_held[i] && _n_block[i] != 0)
+        n_mine.insert(n_mine.end(), {double(U.global(at.solid)[i]), _n_block[i]});
+    for (std::int32_t b = 0; b < _humor_owned; ++b)
+      if (_L_block[b] != 0 && U.global(at.humor)[b] >= 0)
+        L_mine.insert(L_mine.end(), {double(U.global(at.humor)[b]), _L_block[b]});
+    const auto n_all = meshio::all_gather(_humor_mesh->comm(), n_mine),
+               L_all = meshio::all_gather(_humor_mesh->comm(), L_mine);
+    auto add = [&](const std::vector<double>& rows, const std::vector<double>& cols)
     {
       std::vector<PetscInt> c;
-      std::vector<PetscScalar> v(cols.size());
-      for (auto [g, x] : cols)
-        c.push_back(static_cast<PetscInt>(g));
-      for (auto [g, x] : rows)
+      std::vector<PetscScalar> v(cols.size() / 2);
+      for (std::size_t j = 0; j < cols.size(); j += 2)
+        c.push_back(static_cast<PetscInt>(cols[j]));
+      for (std::size_t i = 0; i < rows.size(); i += 2)
       {
-        const PetscInt r = static_cast<PetscInt>(g);
-        for (std::size_t j = 0; j < cols.size(); ++j)
-          v[j] = -x * cols[j].second / _cut_area_value;
+        const PetscInt r = static_cast<PetscInt>(rows[i]);
+        for (std::size_t j = 0; j < c.size(); ++j)
+          v[j] = -rows[i + 1] * cols[2 * j + 1] / _cut_area_value;
         MatSetValues(A, 1, &r, static_cast<PetscInt>(c.size()), c.data(), v.data(), ADD_VALUES);
       }
     };
-    add(_n_mine, _L_all);
-    add(_L_mine, _n_all);
+    add(n_mine, L_all);
+    add(L_mine, n_all);
   }
   lap("wall");
 }
 
+void Flow::residual(la::Vector<double>& b)
+{
+  const double t = MPI_Wtime();
+  _solid.residual(*_b_solid);
+  _timings["solid"] += MPI_Wtime() - t;
+  std::vector<double> bh(_humor_owned);
+  add_residual(_b_solid->mutable_array(), bh);
+  std::fill(b.mutable_array().begin(), b.mutable_array().end(), 0.0);
+  _own_unknowns->insert(0, _b_solid->array().subspan(0, _solid_owned), b);
+  _own_unknowns->insert(1, bh, b);
+}
+
+void Flow::own_jacobian(Mat A)
+{
+  const double t = MPI_Wtime();
+  for (const auto* J : _solid.jacobian_forms())
+    fem::assemble_matrix(solver::add_block(A, _own.solid_block), *J, {});
+  const auto& U = *_own_unknowns;
+  for (std::int32_t i = 0; i < U.owned(0); ++i)
+    if (_solid_held[i] && U.global(0)[i] >= 0)
+      MatSetValue(A, U.global(0)[i], U.global(0)[i], 1.0, ADD_VALUES);
+  _timings["solid"] += MPI_Wtime() - t;
+  add_jacobian(_own, A);
+}
+
 Mat Flow::create_matrix()
 {
-  set_wall_pressures();
-  return _unknowns->create_matrix([this](Mat P) { add_jacobian(P); });
+  return _own_unknowns->create_matrix([this](Mat P) { own_jacobian(P); });
 }
 
 solver::System Flow::system(cavity::Closed* closed)
 {
   solver::System s;
-  s.x = &_unknowns->x();
+  s.x = &_own_unknowns->x();
   s.y = closed ? closed->unknowns() : &_no_unknowns;
   s.residual = [this, closed](la::Vector<double>& b, std::vector<double>& g)
   {
-    _unknowns->unpack();
+    _own_unknowns->unpack();
     if (closed)
       closed->apply();
-    set_wall_pressures();
     residual(b);
     if (closed)
       closed->constraints(g);
   };
   s.jacobian = [this, closed](Mat A)
   {
-    _unknowns->unpack();
+    _own_unknowns->unpack();
     if (closed)
       closed->apply();
-    set_wall_pressures();
     MatZeroEntries(A);
-    add_jacobian(A);
+    own_jacobian(A);
     MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
     MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
   };
@@ -703,8 +711,8 @@ solver::System Flow::system(cavity::Closed* closed)
       {
         std::fill(B[i].mutable_array().begin(), B[i].mutable_array().end(), 0.0);
         std::fill(C[i].mutable_array().begin(), C[i].mutable_array().end(), 0.0);
-        _unknowns->insert(0, Bs[i].array(), B[i]);
-        _unknowns->insert(0, Cs[i].array(), C[i]);
+        _own_unknowns->insert(0, Bs[i].array(), B[i]);
+        _own_unknowns->insert(0, Cs[i].array(), C[i]);
       }
     };
   s.inadmissible = [this]
@@ -720,12 +728,12 @@ solver::System Flow::system(cavity::Closed* closed)
   };
   s.locate = [this](const la::Vector<double>& b)
   {
-    std::vector<double> block(_unknowns->owned(0));
-    _unknowns->extract(0, b, block);
+    std::vector<double> block(_own_unknowns->owned(0));
+    _own_unknowns->extract(0, b, block);
     std::copy(block.begin(), block.end(), _b_solid->mutable_array().begin());
     const auto w = _solid.largest_residual(*_b_solid);
-    std::vector<double> humor(_unknowns->owned(1));
-    _unknowns->extract(1, b, humor);
+    std::vector<double> humor(_own_unknowns->owned(1));
+    _own_unknowns->extract(1, b, humor);
     double m = 0;
     for (double v : humor)
       m = std::max(m, std::isfinite(v) ? std::abs(v) : std::numeric_limits<double>::infinity());
@@ -793,7 +801,7 @@ void Flow::start()
     measure_cut();
   follow_wall();
   std::fill(p->x()->mutable_array().begin(), p->x()->mutable_array().end(), 0.0);
-  _unknowns->pack();
+  _own_unknowns->pack();
 }
 
 void Flow::advance()
@@ -847,6 +855,6 @@ double Flow::largest_pressure() const
   return m;
 }
 
-std::int64_t Flow::dofs() const { return _unknowns->size_global(1); }
+std::int64_t Flow::dofs() const { return _own_unknowns->size_global(1); }
 
 } // namespace nct::humor_flow

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,18 +60,44 @@ public:
   Flow(solid::Problem& solid, const meshio::Tagged& humor, const Boundaries& boundaries,
        double density);
 
+  /// Where the humor sits in a monolithic system: the rows and columns of
+  /// its blocks.
+  struct Placement
+  {
+    const solver::Monolithic* U;
+    std::size_t solid, humor; ///< the fields of u and p~
+    /// The solid's block (its held rows and columns left out), the humor's.
+    solver::BlockIndices solid_block, humor_block;
+    /// Per cavity: the solid's rows by the wall's p~, the wall's p~ rows by u.
+    std::array<solver::BlockIndices, 2> load_p, flux_u;
+  };
+  /// The humor's field of a monolithic system: p~ but where it is held.
+  solver::Monolithic::Field field() const;
+  /// The humor in U, whose field `solid` is the solid's u and `humor` field().
+  Placement place(const solver::Monolithic& U, std::size_t solid, std::size_t humor) const;
+  /// With the system's functions set (unpacked): the wall's and the lid's
+  /// loads added to the solid's free rows (`b_solid`, laid out as u's
+  /// entries, owned first), and the humor's rows into `b_humor` (p~'s
+  /// owned entries).
+  void add_residual(std::span<double> b_solid, std::span<double> b_humor);
+  /// The humor's blocks and the wall's and lid's couplings into A (not the
+  /// solid's own), at the places `at` gives.
+  void add_jacobian(const Placement& at, Mat A);
+
   /// At the start of the dynamics: the humor mesh onto the solid's current
   /// wall, p~ = 0.
   void start();
-  /// The Newton system of the solid, its closed cavities (null: open) and p~.
-  solver::System system(cavity::Closed* closed);
-  /// A matrix with the system's pattern (AIJ, assembled once).
-  Mat create_matrix();
   /// After a converged step: the humor mesh follows the wall. Throws
   /// std::runtime_error, naming the place, if a humor cell folded.
   void advance();
-  /// The stacked unknowns (fields: solid, humor_flow).
-  solver::Monolithic& unknowns() { return *_unknowns; }
+
+  /// The solid with its closed cavities (null: open) and the humor, alone
+  /// (no air): a Newton system of its own, on unknowns(), and a matrix
+  /// with its pattern (AIJ, assembled once).
+  solver::System system(cavity::Closed* closed);
+  Mat create_matrix();
+  /// The stacked unknowns of system() (fields: solid, humor_flow).
+  solver::Monolithic& unknowns() { return *_own_unknowns; }
 
   /// p~ [MPa] on the humor mesh: the pressure less the cavity's.
   std::shared_ptr<dolfinx::fem::Function<double>> p;
@@ -88,8 +115,9 @@ public:
   /// The humor's smallest cell volume now over as built (negative: folded),
   /// and where (current coordinates). Collective.
   std::pair<double, std::array<double, 3>> smallest_cell_ratio() const;
-  /// Wall time [s] by part: "solid", "humor" (its forms), "wall" (the
-  /// wall's blocks and transfers), "mesh_motion" (the extension).
+  /// Wall time [s] by part: "solid" (its forms, in system()), "humor" (its
+  /// forms), "wall" (the wall's and the lid's blocks and transfers),
+  /// "mesh_motion" (the extension).
   const std::map<std::string, double>& timings() const { return _timings; }
 
 private:
@@ -98,16 +126,15 @@ private:
   {
     int cavity;
     std::array<double, 3> place;
-    std::int64_t row = -1; ///< its p~'s index in the stacked system (-1: held)
   };
   void pair(const meshio::Tagged& humor, const Boundaries& boundaries);
   void choose_held_nodes(const meshio::Tagged& humor, const Boundaries& boundaries);
   void make_forms();
-  /// p~ on the wall into the solid mesh's p_1, p_2 (x unpacked).
+  /// p~ on the wall into the solid mesh's p_1, p_2 (p~ set).
   void set_wall_pressures();
-  /// The coupled residual into b (x unpacked).
+  /// system()'s residual into b and Jacobian into A (x unpacked).
   void residual(dolfinx::la::Vector<double>& b);
-  void add_jacobian(Mat A);
+  void own_jacobian(Mat A);
   /// The humor mesh onto the solid's current wall.
   void follow_wall();
   /// 1 / (rho c) of the solid's time step [mm^2/MPa].
@@ -131,28 +158,28 @@ private:
   std::shared_ptr<dolfinx::fem::Constant<double>> _compliance;
   std::shared_ptr<dolfinx::fem::Form<double>> _load, _load_u, _laplace, _laplace_p;
   std::array<std::shared_ptr<dolfinx::fem::Form<double>>, 2> _load_p, _flux, _flux_u;
-  std::unique_ptr<solver::Monolithic> _unknowns;
   std::vector<Pair> _pairs; ///< every wall node, the same on every rank
   /// Local dofs and their pair: the solid's P1 wall dofs (owned and
   /// ghost) per cavity, with the solid mesh's geometry node; the humor's
-  /// wall dofs (owned and ghost).
+  /// wall dofs (owned and ghost); the humor mesh displacement's owned wall
+  /// nodes (block dofs).
   struct Solid_dof
   {
     std::int32_t dof, node;
     std::size_t k;
   };
   std::array<std::vector<Solid_dof>, 2> _solid_dofs;
-  std::vector<std::pair<std::int32_t, std::size_t>> _humor_dofs;
-  /// The humor mesh displacement's owned wall nodes (block dofs) and their pair.
-  std::vector<std::pair<std::int32_t, std::size_t>> _mesh_dofs;
-  std::vector<std::int32_t> _held; ///< the humor dofs where p~ = 0 (local, owned, sorted)
-  std::vector<double> _no_unknowns;
+  std::vector<std::pair<std::int32_t, std::size_t>> _humor_dofs, _mesh_dofs;
+  std::vector<std::int32_t> _held;   ///< the humor dofs where p~ = 0 (local, owned, sorted)
+  std::vector<std::int32_t> _active; ///< the others
   std::int32_t _solid_owned = 0, _scalar_owned = 0, _humor_owned = 0;
   std::vector<std::int8_t> _solid_held;
-  solver::BlockIndices _solid_block, _humor_block;
-  std::array<solver::BlockIndices, 2> _load_p_block, _flux_u_block;
   std::unique_ptr<dolfinx::la::Vector<double>> _b_solid, _b_humor, _b_scalar;
   std::map<std::string, double> _timings;
+  /// system()'s unknowns and their places.
+  std::unique_ptr<solver::Monolithic> _own_unknowns;
+  Placement _own;
+  std::vector<double> _no_unknowns;
 
   /// The lid (forms/humor_flow.py); without one, the forms are null.
   std::shared_ptr<dolfinx::fem::Form<double>> _cut_normal, _cut_area, _cut_flux, _cut_motion,
@@ -160,10 +187,7 @@ private:
   std::shared_ptr<dolfinx::mesh::MeshTags<std::int32_t>> _lid_tags;
   double _cut_area_value = 0;
   std::array<double, 3> _cut_normal_mean{0, 0, 0};
-  /// n on the solid's free owned dofs and L on the humor's, each as
-  /// (stacked index, value): this rank's, and every rank's.
-  std::vector<std::pair<std::int64_t, double>> _n_mine, _n_all, _L_mine, _L_all;
-  std::vector<double> _n_block, _L_block; ///< laid out as u's and p's owned entries
+  std::vector<double> _n_block, _L_block; ///< n, L laid out as u's and p~'s owned entries
   std::vector<std::int32_t> _lid_mesh_dofs; ///< the humor mesh displacement's owned lid nodes
 };
 
