@@ -60,7 +60,7 @@ on an axisymmetric section; the compatibility of (1), integral a . n da
 Reference: H. J.-P. Morand, R. Ohayon, Fluid Structure Interaction,
 Wiley 1995, ch. 4 and 8 (the incompressible, inviscid liquid in a
 flexible container: the pressure formulation and its added mass);
-docs/physics.md section 24.
+docs/physics.md section 6 (the humor's flow).
 """
 from ufl import (Coefficient, Constant, FacetNormal, FiniteElement, Measure,
                  TestFunction, TrialFunction, VectorElement, derivative, grad, inner)

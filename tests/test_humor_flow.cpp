@@ -405,3 +405,46 @@ TEST(HumorFlow, StiffEyeOnSpringsCarriesItsHumorThroughTheLid)
   EXPECT_NEAR(omega["flow"], omega["translation"], 0.005 * omega["translation"]);
   EXPECT_GT(omega["none"], 1.5 * omega["translation"]);
 }
+
+// The ball of RigidBallInASphereCarriesStokesAddedMass pushed hard (P =
+// 0.2 MPa) towards its container across the 1 mm gap: the humor's mesh
+// follows until its cells in the gap would fold; then the step that
+// would fold one does not converge, and Newton says so, naming the humor
+// and the place. No accepted step leaves a humor cell folded.
+TEST(HumorFlow, BallPushedThroughTheGapStopsWithTheHumorNamed)
+{
+  nct::Model model = model_of(ball_scene, {"mesh.parameters.h=0.1"});
+  auto& problem = model.solid->problem;
+  auto& flow = *model.solid->flow;
+  nct::cavity::Closed closed(problem, {0.0});
+  problem.start_dynamics({0.02, 0.0, 0.0});
+  flow.start();
+  dolfinx::la::petsc::Matrix A(flow.create_matrix(), false);
+  nct::solver::set_petsc_options({});
+  nct::solver::Newton newton(MPI_COMM_WORLD, A.mat());
+  nct::solver::NewtonSettings settings;
+  settings.max_iterations = 12;
+  problem.set_press(0.2);
+  std::string reason;
+  double moved = 0, smallest = 1;
+  for (int n = 0; n < 200 && reason.empty(); ++n)
+  {
+    const auto report = newton.solve(flow.system(&closed), settings);
+    if (!report.converged)
+    {
+      reason = report.reason;
+      break;
+    }
+    flow.unknowns().unpack();
+    problem.advance();
+    flow.advance();
+    smallest = std::min(smallest, flow.smallest_cell_ratio().first);
+    moved = problem.displacement_at({{0.0, 0.75, 0.0}})[0][1];
+  }
+  std::printf("ball pushed through the gap: moved %.3f mm of 1 mm, the humor's smallest cell "
+              "%.3g of its volume as built; then: %s\n",
+              moved, smallest, reason.c_str());
+  EXPECT_NE(reason.find("the humor's mesh would fold"), std::string::npos) << reason;
+  EXPECT_GT(smallest, 0.0);
+  EXPECT_GT(moved, 0.5);
+}

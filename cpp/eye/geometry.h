@@ -149,7 +149,7 @@ void build(const Geometry& g, const Refinement& r);
 /// to the shell's posterior node at the zonule ring, and "cavity_wall"
 /// split into "aqueous_wall" and "vitreous_wall" (curves 7, 8).
 /// With `humor` (one cavity) also the humor inside the inner face, down to
-/// the cut: surface "humor" (tag 8), conforming to "cavity_wall" node for
+/// the cut: surface "humor" (tag 20), conforming to "cavity_wall" node for
 /// node, its axis in "axis", its cut in "humor_lid" (curve 9); graded from
 /// the wall's spacing to Refinement::size_humor.
 void build_section(const Geometry& g, const Refinement& r, bool humor = false);

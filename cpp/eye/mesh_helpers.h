@@ -30,8 +30,9 @@ enum class Group
 };
 constexpr int group_count = 9;
 constexpr int part_count = 7;
-/// The humor's surface (a section's, with its flow): its physical tag.
-constexpr int humor_tag = part_count + 1;
+/// The humor's surface (a section's, with its flow): its physical tag,
+/// apart from the parts' and the air's (cpp/air/domain.h: 8, 11 to 16).
+constexpr int humor_tag = 20;
 /// Physical names of the parts, by Part - 1.
 inline const std::array<std::string, part_count> part_names{
     "cornea", "limbus", "sclera", "lens_cortex", "lens_nucleus", "zonule", "vitreous_membrane"};

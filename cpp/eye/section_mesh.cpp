@@ -200,8 +200,11 @@ void add_humor(SectionMesh& section, std::size_t nc, std::size_t layers, double 
   for (int l : wall_lines)
     gmsh::model::geo::mesh::setTransfiniteCurve(l, 2); // the wall's own nodes only
   gmsh::model::geo::synchronize();
+  double size_max = 0; // the option is global: the air's meshing after must not see it
+  gmsh::option::getNumber("Mesh.MeshSizeMax", size_max);
   gmsh::option::setNumber("Mesh.MeshSizeMax", size);
   gmsh::model::mesh::generate(2);
+  gmsh::option::setNumber("Mesh.MeshSizeMax", size_max);
 
   // Its nodes into the section's: the wall's by place, the rest new.
   std::map<std::array<double, 2>, std::size_t> wall_tag;

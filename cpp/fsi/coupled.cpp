@@ -75,17 +75,18 @@ std::string where(const Place& x)
 
 Coupled::Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem& motion,
                  const meshio::Tagged& solid_mesh, const meshio::Tagged& air_mesh,
-                 const Interface& interface, bool shape_derivative)
-    : _solid(solid), _air(air), _motion(motion), _air_mesh(air_mesh.mesh),
+                 const Interface& interface, bool shape_derivative, humor_flow::Flow* flow)
+    : _solid(solid), _air(air), _motion(motion), _flow(flow), _air_mesh(air_mesh.mesh),
       _shape_derivative(shape_derivative), _gdim(solid_mesh.mesh->geometry().dim())
 {
   if (!air.moving() || air.d != motion.d)
     throw std::invalid_argument("fsi::Coupled: the air must move with the mesh motion's d");
-  _unknowns = std::make_unique<solver::Monolithic>(
-      solid_mesh.mesh->comm(),
-      std::vector<solver::Monolithic::Field>{{"solid", solid.u, std::nullopt},
-                                             {"air", air.up, std::nullopt},
-                                             {"mesh_motion", motion.d, motion.active()}});
+  std::vector<solver::Monolithic::Field> fields{{"solid", solid.u, std::nullopt},
+                                                {"air", air.up, std::nullopt},
+                                                {"mesh_motion", motion.d, motion.active()}};
+  if (flow)
+    fields.push_back(flow->field());
+  _unknowns = std::make_unique<solver::Monolithic>(solid_mesh.mesh->comm(), fields);
   _solid_held = solid.dynamic_dirichlet_marker(); // the coupled system runs in the dynamics
   _air_held = air.dirichlet_marker();
   _b_solid = std::make_unique<la::Vector<double>>(solid.u->x()->map(), solid.u->x()->bs());
@@ -130,6 +131,8 @@ Coupled::Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem&
       _mesh_block.rows[i] = -1;
   }
   _air_mesh_block = {_air_block.rows, _mesh_block.cols, _air_block.row_factor, 1, _gdim};
+  if (flow)
+    _flow_at = flow->place(U, 0, 3);
 }
 
 void Coupled::pair(const meshio::Tagged& solid_mesh, const meshio::Tagged& air_mesh,
@@ -301,6 +304,10 @@ void Coupled::residual(la::Vector<double>& b)
   };
   _solid.residual(*_b_solid);
   lap("solid");
+  std::vector<double> bh(_flow ? _unknowns->owned(3) : 0);
+  if (_flow)
+    _flow->add_residual(_b_solid->mutable_array(), bh);
+  lap("humor_flow");
   _air.residual(*_b_air);
   lap("air");
   _motion.residual(*_b_mesh);
@@ -339,6 +346,8 @@ void Coupled::residual(la::Vector<double>& b)
   _unknowns->insert(0, bs, b);
   _unknowns->insert(1, bf, b);
   _unknowns->insert(2, bm, b);
+  if (_flow)
+    _unknowns->insert(3, bh, b);
   lap("interface");
 }
 
@@ -362,6 +371,9 @@ void Coupled::add_jacobian(Mat A)
   lap("air_shape");
   fem::assemble_matrix(solver::add_block(A, _mesh_block), _motion.jacobian_form(), {});
   lap("mesh_motion");
+  if (_flow)
+    _flow->add_jacobian(_flow_at, A);
+  lap("humor_flow");
   // Held rows: the diagonal of their residual d (x - 0).
   auto diagonal = [&](std::size_t f, const std::vector<std::int8_t>& held, double value)
   {
@@ -483,7 +495,7 @@ std::string Coupled::inadmissible() const
   const auto [J, x] = _air.smallest_mesh_jacobian();
   if (!(J > 0))
     return format("an air cell folded: the mesh motion's det F = %.3g ", J) + where(x);
-  return "";
+  return _flow ? _flow->inadmissible() : "";
 }
 
 void Coupled::start()
@@ -542,6 +554,8 @@ void Coupled::advance()
   _lambda_n = _lambda;
   _solid.advance();
   _air.advance();
+  if (_flow)
+    _flow->advance();
 }
 
 Power Coupled::power()

@@ -13,6 +13,7 @@
 
 #include "air/problem.h"
 #include "cavity/cavity.h"
+#include "humor_flow/flow.h"
 #include "mesh_motion/problem.h"
 #include "meshio/model.h"
 #include "solid/problem.h"
@@ -71,9 +72,11 @@ public:
   /// reference geometry moves (zero pressure), on the meshes as built.
   /// `shape_derivative` false leaves the air's dR/dd block out of the
   /// Jacobian (a quasi-Newton method).
+  /// `flow`: the humors' flow (its p~ the fourth field), or null.
   Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem& motion,
           const meshio::Tagged& solid_mesh, const meshio::Tagged& air_mesh,
-          const Interface& interface, bool shape_derivative);
+          const Interface& interface, bool shape_derivative,
+          humor_flow::Flow* flow = nullptr);
 
   /// Start coupling from the solid's current state: the air mesh is
   /// moved (its reference with it) so that its interface lies on the
@@ -103,7 +106,8 @@ public:
   /// Collective; assembles the coupled and the solid's residuals.
   Power power();
 
-  /// The stacked unknowns (fields: solid, air, mesh_motion).
+  /// The stacked unknowns (fields: solid, air, mesh_motion; humor_flow
+  /// with the humors' flow).
   solver::Monolithic& unknowns() { return *_unknowns; }
   const solver::Monolithic& unknowns() const { return *_unknowns; }
   /// Interface nodes paired (each with up to 3 coupled components).
@@ -113,7 +117,8 @@ public:
   std::string inadmissible() const;
 
   /// Wall time [s] spent in each part of the residuals and Jacobians:
-  /// "solid", "air", "mesh_motion" (their own forms), "air_shape" (the
+  /// "solid", "air", "mesh_motion", "humor_flow" (their own forms and the
+  /// humor's coupling to the wall), "air_shape" (the
   /// shape derivative), "interface" (the constraints and the moved
   /// reaction, with their communication), "matrix_communication" (the
   /// Jacobian's entries sent to the ranks that own their rows).
@@ -144,6 +149,8 @@ private:
   solid::Problem& _solid;
   air::Problem& _air;
   mesh_motion::Problem& _motion;
+  humor_flow::Flow* _flow;
+  humor_flow::Flow::Placement _flow_at;
   std::shared_ptr<dolfinx::mesh::Mesh> _air_mesh; ///< moved by start()
   bool _shape_derivative;
   std::unique_ptr<solver::Monolithic> _unknowns;

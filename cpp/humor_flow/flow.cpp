@@ -719,7 +719,7 @@ solver::System Flow::system(cavity::Closed* closed)
   {
     const auto w = _solid.smallest_jacobian();
     if (w.value > 0)
-      return std::string();
+      return inadmissible();
     return (w.value == -std::numeric_limits<double>::infinity()
                 ? std::string("det F is NaN ")
                 : format("an element inverted: det F = %.3g ", w.value))
@@ -747,6 +747,14 @@ solver::System Flow::system(cavity::Closed* closed)
 
 void Flow::follow_wall()
 {
+  extend_to_wall();
+  move_humor_mesh();
+  if (_lid_tags)
+    measure_lid();
+}
+
+void Flow::extend_to_wall()
+{
   const double t = MPI_Wtime();
   // The solid's wall nodes where they are now.
   const auto u = _solid.nodal_displacement();
@@ -760,7 +768,6 @@ void Flow::follow_wall()
   sum(_humor_mesh->comm(), now);
   // Their displacement from the humor mesh as built, extended into it
   // (on the mesh as built: the extension's operator is its).
-  auto& D = *_motion->d->function_space();
   std::span<double> x = _humor_mesh->geometry().x();
   std::copy(_x_built.begin(), _x_built.end(), x.begin());
   std::vector<std::pair<std::int32_t, std::array<double, 3>>> g;
@@ -776,7 +783,14 @@ void Flow::follow_wall()
     g.push_back({b, {now[3 * k] - _pairs[k].place[0], now[3 * k + 1] - _pairs[k].place[1],
                      now[3 * k + 2] - _pairs[k].place[2]}});
   _motion->extend(g);
+  _timings["mesh_motion"] += MPI_Wtime() - t;
+}
+
+void Flow::move_humor_mesh()
+{
   // x = X + d at the mesh's nodes (P1: the geometry's nodes are d's).
+  auto& D = *_motion->d->function_space();
+  std::span<double> x = _humor_mesh->geometry().x();
   const auto& mesh = *_humor_mesh;
   const int tdim = mesh.topology().dim(), bs = D.dofmap()->index_map_bs();
   const std::int32_t cells = mesh.topology().index_map(tdim)->size_local()
@@ -790,9 +804,23 @@ void Flow::follow_wall()
       for (int j = 0; j < bs; ++j)
         x[3 * nodes[i] + j] = _x_built[3 * nodes[i] + j] + d[bs * dofs[i] + j];
   }
-  _timings["mesh_motion"] += MPI_Wtime() - t;
-  if (_lid_tags)
-    measure_lid();
+}
+
+std::string Flow::inadmissible()
+{
+  // The humor's mesh as it would follow the wall now, its geometry kept.
+  std::span<double> x = _humor_mesh->geometry().x();
+  const std::vector<double> kept(x.begin(), x.end());
+  extend_to_wall();
+  move_humor_mesh();
+  const auto [ratio, at] = smallest_cell_ratio();
+  std::copy(kept.begin(), kept.end(), x.begin());
+  if (ratio > 0)
+    return "";
+  return format("the humor's mesh would fold: a cell %s would keep %.3g of its volume as "
+                "built (the wall moved further into the humor than the mesh motion's extension "
+                "can follow)",
+                where(at).c_str(), ratio);
 }
 
 void Flow::start()
@@ -807,6 +835,7 @@ void Flow::start()
 void Flow::advance()
 {
   follow_wall();
+  // The Newton solve's inadmissible() keeps a folding step from converging.
   const auto [ratio, x] = smallest_cell_ratio();
   if (!(ratio > 0))
     throw std::runtime_error(format("humor_flow: a humor cell folded (volume %.3g of its own "

@@ -90,6 +90,10 @@ public:
   /// After a converged step: the humor mesh follows the wall. Throws
   /// std::runtime_error, naming the place, if a humor cell folded.
   void advance();
+  /// Why the current wall is not admissible for the humor, empty if it is:
+  /// the humor's mesh would fold following it (its place and how far).
+  /// Collective; the humor's mesh stays where it is.
+  std::string inadmissible();
 
   /// The solid with its closed cavities (null: open) and the humor, alone
   /// (no air): a Newton system of its own, on unknowns(), and a matrix
@@ -135,8 +139,12 @@ private:
   /// system()'s residual into b and Jacobian into A (x unpacked).
   void residual(dolfinx::la::Vector<double>& b);
   void own_jacobian(Mat A);
-  /// The humor mesh onto the solid's current wall.
+  /// The humor mesh onto the solid's current wall: the extension of the
+  /// wall's displacement (the mesh at its geometry as built), the mesh
+  /// moved by it, the lid measured.
   void follow_wall();
+  void extend_to_wall();
+  void move_humor_mesh();
   /// 1 / (rho c) of the solid's time step [mm^2/MPa].
   void set_compliance();
   /// The lid's constants on the solid's reference geometry: the cut's

@@ -188,6 +188,20 @@ void Problem::residual(la::Vector<double>& b)
       out[i] = _diagonal * values[i];
 }
 
+/// extend()'s system: the moving nodes as unknowns, the boundary rows
+/// held, the operator factorised by MUMPS.
+struct Problem::Extension
+{
+  std::unique_ptr<solver::Monolithic> system;
+  std::unique_ptr<la::petsc::Matrix> A;
+  KSP ksp = nullptr;
+  ~Extension()
+  {
+    if (ksp)
+      KSPDestroy(&ksp);
+  }
+};
+
 void Problem::extend(const std::vector<std::pair<std::int32_t, std::array<double, 3>>>& g)
 {
   auto D = d->function_space();
@@ -201,29 +215,42 @@ void Problem::extend(const std::vector<std::pair<std::int32_t, std::array<double
   d->x()->scatter_fwd();
 
   // One Newton step of the linear problem, the boundary rows held.
-  solver::Monolithic system(d->function_space()->mesh()->comm(),
-                            {{"mesh_motion", d, _active}});
-  solver::BlockIndices indices{system.global(0), system.global(0), {}, bs, bs};
-  std::vector<std::int64_t> held;
-  for (std::size_t i = 0; i < _fixed.size(); ++i)
-    if (_fixed[i] || _interface[i])
-    {
-      if (i < static_cast<std::size_t>(system.owned(0)) && indices.rows[i] >= 0)
-        held.push_back(indices.rows[i]);
-      indices.rows[i] = indices.cols[i] = -1;
-    }
-  auto add = [&](Mat A)
+  if (!_extension)
   {
-    fem::assemble_matrix(solver::add_block(A, indices), *_J, {});
-    for (auto r : held)
-      MatSetValue(A, r, r, _diagonal, ADD_VALUES);
-  };
-  la::petsc::Matrix A(system.create_matrix(add), false);
-  MatZeroEntries(A.mat());
-  add(A.mat());
-  MatAssemblyBegin(A.mat(), MAT_FINAL_ASSEMBLY);
-  MatAssemblyEnd(A.mat(), MAT_FINAL_ASSEMBLY);
-
+    auto e = std::make_shared<Extension>();
+    e->system = std::make_unique<solver::Monolithic>(d->function_space()->mesh()->comm(),
+                                                     std::vector<solver::Monolithic::Field>{
+                                                         {"mesh_motion", d, _active}});
+    solver::BlockIndices indices{e->system->global(0), e->system->global(0), {}, bs, bs};
+    std::vector<std::int64_t> held;
+    for (std::size_t i = 0; i < _fixed.size(); ++i)
+      if (_fixed[i] || _interface[i])
+      {
+        if (i < static_cast<std::size_t>(e->system->owned(0)) && indices.rows[i] >= 0)
+          held.push_back(indices.rows[i]);
+        indices.rows[i] = indices.cols[i] = -1;
+      }
+    auto add = [&](Mat A)
+    {
+      fem::assemble_matrix(solver::add_block(A, indices), *_J, {});
+      for (auto r : held)
+        MatSetValue(A, r, r, _diagonal, ADD_VALUES);
+    };
+    e->A = std::make_unique<la::petsc::Matrix>(e->system->create_matrix(add), false);
+    MatZeroEntries(e->A->mat());
+    add(e->A->mat());
+    MatAssemblyBegin(e->A->mat(), MAT_FINAL_ASSEMBLY);
+    MatAssemblyEnd(e->A->mat(), MAT_FINAL_ASSEMBLY);
+    KSPCreate(d->function_space()->mesh()->comm(), &e->ksp);
+    KSPSetType(e->ksp, KSPPREONLY);
+    PC pc;
+    KSPGetPC(e->ksp, &pc);
+    PCSetType(pc, PCLU);
+    PCFactorSetMatSolverType(pc, MATSOLVERMUMPS);
+    KSPSetOperators(e->ksp, e->A->mat(), e->A->mat());
+    _extension = e;
+  }
+  auto& system = *_extension->system;
   la::Vector<double> r(D->dofmap()->index_map, bs);
   residual(r);
   for (std::size_t i = 0; i < _interface.size(); ++i)
@@ -232,18 +259,9 @@ void Problem::extend(const std::vector<std::pair<std::int32_t, std::array<double
   la::Vector<double> b(system.x().map(), 1), delta(system.x().map(), 1);
   system.insert(0, r.array(), b);
   Vec b_petsc = la::petsc::create_vector_wrap(b), delta_petsc = la::petsc::create_vector_wrap(delta);
-  KSP ksp;
-  KSPCreate(d->function_space()->mesh()->comm(), &ksp);
-  KSPSetType(ksp, KSPPREONLY);
-  PC pc;
-  KSPGetPC(ksp, &pc);
-  PCSetType(pc, PCLU);
-  PCFactorSetMatSolverType(pc, MATSOLVERMUMPS);
-  KSPSetOperators(ksp, A.mat(), A.mat());
-  KSPSolve(ksp, b_petsc, delta_petsc);
+  KSPSolve(_extension->ksp, b_petsc, delta_petsc);
   KSPConvergedReason reason;
-  KSPGetConvergedReason(ksp, &reason);
-  KSPDestroy(&ksp);
+  KSPGetConvergedReason(_extension->ksp, &reason);
   VecDestroy(&b_petsc);
   VecDestroy(&delta_petsc);
   if (reason < 0)

@@ -70,16 +70,21 @@ public:
   const dolfinx::fem::Form<double>& jacobian_form() const { return *_J; }
 
   /// Set d to the extension of a displacement of the interface, zero on
-  /// the held boundaries: one linear solve (MUMPS). `g` gives the
+  /// the held boundaries: one linear solve (MUMPS, factorised at the first
+  /// call and kept: the operator is the reference mesh's). `g` gives the
   /// displacement of owned interface nodes (block indices of d's map; 3
-  /// values each; held components are ignored). For the start of a
-  /// coupled run and tests.
+  /// values each; held components are ignored). The mesh must be at its
+  /// reference geometry. For the start of a coupled run, the humor's mesh
+  /// (cpp/humor_flow) and tests.
   void extend(const std::vector<std::pair<std::int32_t, std::array<double, 3>>>& g);
 
   /// Number of unknowns (active scalar entries) over all ranks.
   std::int64_t dofs() const;
 
 private:
+  /// extend()'s linear system, factorised once.
+  struct Extension;
+  std::shared_ptr<Extension> _extension;
   std::shared_ptr<dolfinx::fem::Form<double>> _R, _J;
   std::shared_ptr<const dolfinx::mesh::MeshTags<std::int32_t>> _moving;
   std::map<std::string, std::shared_ptr<dolfinx::fem::Constant<double>>> _constants;

@@ -271,7 +271,7 @@ CouplingBlock::CouplingBlock(SolidBlock& solid, AirBlock& air, MeshMotionBlock& 
                              const fsi::Interface& interface, const FsiSettings& s)
     : settings(s),
       coupled(solid.problem, air.problem, motion.problem, solid.mesh.mesh, air.mesh.mesh,
-              interface, s.shape_derivative),
+              interface, s.shape_derivative, solid.flow.get()),
       _solid(solid), _air(air)
 {
 }
@@ -327,10 +327,18 @@ void CouplingBlock::set_fieldsplit(KSP ksp)
   PetscObjectTypeCompare(reinterpret_cast<PetscObject>(pc), PCFIELDSPLIT, &fieldsplit);
   if (!fieldsplit)
     return;
+  // The humors' flow, if any, with the solid.
   auto& unknowns = coupled.unknowns();
   IS solid = unknowns.index_set(0), air = unknowns.index_set(1), mesh = unknowns.index_set(2),
      air_and_mesh;
   ISExpand(air, mesh, &air_and_mesh);
+  if (unknowns.fields() > 3)
+  {
+    IS humor = unknowns.index_set(3), solid_only = solid;
+    ISExpand(solid_only, humor, &solid);
+    ISDestroy(&humor);
+    ISDestroy(&solid_only);
+  }
   PCFieldSplitSetIS(pc, "solid", solid);
   PCFieldSplitSetIS(pc, "air", air_and_mesh);
   for (IS* is : {&solid, &air, &mesh, &air_and_mesh})

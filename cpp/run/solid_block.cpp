@@ -66,6 +66,16 @@ void SolidBlock::describe(nlohmann::json& summary, io::RunFolder& folder) const
                         ? "triangles (plane strain)"
                         : "triangles (an axisymmetric section: whole-body results)",
                     settings.solid.element.degree, (long long)problem.dofs()));
+  if (flow)
+  {
+    const auto& t = mesh.humor->mesh->topology();
+    const std::int64_t humor_cells = t.index_map(t.dim())->size_global();
+    summary["humor_cells"] = humor_cells;
+    summary["humor_dofs"] = flow->dofs();
+    folder.log(format("humor: %lld cells, %lld pressure unknowns, %zu wall nodes "
+                      "(cavity.humor_inertia = \"flow\")",
+                      (long long)humor_cells, (long long)flow->dofs(), flow->wall_nodes()));
+  }
   if (!mesh.probe_names.empty())
     folder.log("step lines: '" + mesh.probe_names[0]
                + " u' is the displacement from the reference (stress-free) geometry [mm], as in "

@@ -150,10 +150,6 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
   if (humor == HumorInertia::flow && !eye && s.solid.cavity.humor_groups.empty())
     at("cavity.humor_groups", "key 'cavity.humor_groups': cavity.humor_inertia = \"flow\" "
                               "needs the humor's volume groups, but it names none");
-  if (humor == HumorInertia::flow && load == Load::fsi)
-    at("cavity.humor_inertia", "key 'cavity.humor_inertia': \"flow\" is not coupled with the "
-                               "air yet (puff.load = \"fsi\"): a prescribed puff, or "
-                               "\"translation\"");
   if (s.solid.support.springs && !eye && s.mesh.boundary.fixed.empty())
     at("support.model", "key 'support.model': \"springs\" act on boundary.fixed, which names "
                         "no group");

@@ -102,12 +102,14 @@ def from_emulator(emulator_file, points, out, fitted, seed=1, sd=0.02):
     return rows
 
 
-def write_fit(path, scene, emulator_file, parameters, confirm=False, extra=""):
-    """A cohort's fit file on the emulator: `parameters` as (label, keys,
-    start, bounds) with the IOP's prior from each patient's row; the apex,
-    whole-eye and profile readings of each eye's folder."""
+def write_fit(path, scene, emulator_file, parameters, confirm=False, extra="", sets=()):
+    """A cohort's fit file on the emulator: the scene with `sets`,
+    `parameters` as (label, keys, start, bounds) with the IOP's prior from
+    each patient's row; the apex, whole-eye and profile readings of each
+    eye's folder."""
     text = (f'[fit]\nscene = "{pathlib.Path(scene).resolve()}"\n'
-            f'emulator = "{pathlib.Path(emulator_file).resolve()}"\n'
+            + (f"set = {json.dumps(list(sets))}\n" if sets else "")
+            + f'emulator = "{pathlib.Path(emulator_file).resolve()}"\n'
             f"confirm = {'true' if confirm else 'false'}\n{extra}\n")
     for label, keys, start, bounds in parameters:
         text += (f'[[parameter]]\nlabel = "{label}"\nkey = {json.dumps(keys)}\n'
