@@ -56,6 +56,12 @@ const std::vector<Entry>& registry()
                                        "IOP at t = 0) / the deflection at A1", true},
       {"<cavity>_pressure_max_mmHg", "mmHg", "a cavity's largest pressure over the steps "
                                              "(cavity; aqueous, vitreous)", true},
+      {"humor_pressure_range_max_mmHg", "mmHg", "with the humor's flow: the largest range of "
+                                                "its pressure over the humor (max - min)",
+       false},
+      {"humor_bernoulli_max_mmHg", "mmHg", "with the humor's flow: the largest Bernoulli term "
+                                           "rho |w|^2 / 2 its linearisation leaves out (w from "
+                                           "Euler's equation)", false},
       {"newton_iterations", "", "Newton iterations, all phases", false},
       {"step_cuts", "", "increments halved after a failed step", false},
       {"wall_s", "s", "wall time of the whole run", false}};

@@ -830,10 +830,68 @@ void Flow::start()
   follow_wall();
   std::fill(p->x()->mutable_array().begin(), p->x()->mutable_array().end(), 0.0);
   _own_unknowns->pack();
+  std::fill(_w.begin(), _w.end(), 0.0);
+  _range_max = _bernoulli_max = 0;
+}
+
+void Flow::measure_linearisation()
+{
+  // grad p~ per cell of the step's geometry (P1 on affine cells: the
+  // vertices' values), then w -= dt grad p~ / rho.
+  const auto& mesh = *_humor_mesh;
+  const int tdim = mesh.topology().dim();
+  const std::int32_t cells = mesh.topology().index_map(tdim)->size_local();
+  const auto x = mesh.geometry().x();
+  const auto values = p->x()->array();
+  const double dt = _solid.time_constant("dt")->value[0];
+  _w.resize(3 * cells, 0.0);
+  double bernoulli = 0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::int32_t b = 0; b < _humor_owned; ++b)
+    lo = std::min(lo, values[b]), hi = std::max(hi, values[b]);
+  for (std::int32_t c = 0; c < cells; ++c)
+  {
+    auto nodes = mesh.geometry().dofmap().links(c);
+    auto dofs = p->function_space()->dofmap()->cell_dofs(c);
+    // Rows: the edges from vertex 0; a triangle's third is e_z (gradient 0).
+    std::array<std::array<double, 3>, 3> e{};
+    std::array<double, 3> dp{0, 0, 0};
+    e[2][2] = 1;
+    for (int i = 0; i < tdim; ++i)
+    {
+      for (int j = 0; j < 3; ++j)
+        e[i][j] = x[3 * nodes[i + 1] + j] - x[3 * nodes[0] + j];
+      dp[i] = values[dofs[i + 1]] - values[dofs[0]];
+    }
+    // Cramer's rule for e g = dp.
+    auto det = [](const std::array<std::array<double, 3>, 3>& m)
+    {
+      return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+             - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+             + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    };
+    const double d = det(e);
+    double speed2 = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      auto ek = e;
+      for (int i = 0; i < 3; ++i)
+        ek[i][k] = dp[i];
+      _w[3 * c + k] -= dt * det(ek) / d / _density;
+      speed2 += _w[3 * c + k] * _w[3 * c + k];
+    }
+    bernoulli = std::max(bernoulli, 0.5 * _density * speed2);
+  }
+  MPI_Comm comm = _humor_mesh->comm();
+  MPI_Allreduce(MPI_IN_PLACE, &bernoulli, 1, MPI_DOUBLE, MPI_MAX, comm);
+  MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_DOUBLE, MPI_MIN, comm);
+  MPI_Allreduce(MPI_IN_PLACE, &hi, 1, MPI_DOUBLE, MPI_MAX, comm);
+  _bernoulli_max = std::max(_bernoulli_max, bernoulli);
+  _range_max = std::max(_range_max, hi - lo);
 }
 
 void Flow::advance()
 {
+  measure_linearisation();
   follow_wall();
   // The Newton solve's inadmissible() keeps a folding step from converging.
   const auto [ratio, x] = smallest_cell_ratio();

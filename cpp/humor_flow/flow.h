@@ -116,6 +116,13 @@ public:
   std::size_t wall_nodes() const { return _pairs.size(); }
   /// The largest |p~| [MPa] now. Collective.
   double largest_pressure() const;
+  /// What the linearisation leaves out, measured over the converged steps
+  /// since start() [MPa]: the largest range of p~ over the humor (its
+  /// flow's own pressure differences), and the largest Bernoulli term
+  /// rho |w|^2 / 2, w the humor's velocity from Euler's equation,
+  /// w_{n+1} = w_n - dt grad p~ / rho (per cell, the step's gradient).
+  double pressure_range_max() const { return _range_max; }
+  double bernoulli_max() const { return _bernoulli_max; }
   /// The humor's smallest cell volume now over as built (negative: folded),
   /// and where (current coordinates). Collective.
   std::pair<double, std::array<double, 3>> smallest_cell_ratio() const;
@@ -154,6 +161,9 @@ private:
   void measure_lid();
   /// A scalar form summed over the ranks.
   double total(const dolfinx::fem::Form<double>& form) const;
+  /// The converged step's Euler update of the humor's velocity, and the
+  /// largest range of p~ and Bernoulli term so far.
+  void measure_linearisation();
 
   solid::Problem& _solid;
   std::shared_ptr<dolfinx::mesh::Mesh> _humor_mesh;
@@ -197,6 +207,10 @@ private:
   std::array<double, 3> _cut_normal_mean{0, 0, 0};
   std::vector<double> _n_block, _L_block; ///< n, L laid out as u's and p~'s owned entries
   std::vector<std::int32_t> _lid_mesh_dofs; ///< the humor mesh displacement's owned lid nodes
+  /// The humor's velocity per local cell (3 components) [mm/ms], and the
+  /// largest p~ range and Bernoulli term so far [MPa].
+  std::vector<double> _w;
+  double _range_max = 0, _bernoulli_max = 0;
 };
 
 } // namespace nct::humor_flow

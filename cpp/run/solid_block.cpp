@@ -314,6 +314,11 @@ void SolidBlock::summarise(nlohmann::json& summary) const
       max = std::max(max, step[name + "_pressure_mmHg"].get<double>());
     biomarkers::put(summary, name + "_pressure_max_mmHg", max);
   }
+  if (flow)
+  {
+    biomarkers::put(summary, "humor_pressure_range_max_mmHg", flow->pressure_range_max() / mmHg);
+    biomarkers::put(summary, "humor_bernoulli_max_mmHg", flow->bernoulli_max() / mmHg);
+  }
 }
 
 void SolidBlock::add_frame(double t, double dt, const solver::NewtonReport& report,
