@@ -507,6 +507,8 @@ TEST(Section, DefaultSceneOnTheEyeSection)
     std::string key = e.key;
     if (key.rfind("<cavity>", 0) == 0)
       key.replace(0, 8, "cavity");
+    if (key.rfind("humor_", 0) == 0) // with cavity.humor_inertia = "flow" only
+      continue;
     EXPECT_TRUE(s.contains(key) && s[key].is_number()) << key;
   }
 }

@@ -942,6 +942,17 @@ double Flow::largest_pressure() const
   return m;
 }
 
+void Flow::write(io::MovingFields& files, double time)
+{
+  // The files take the mesh as built and its displacement.
+  std::span<double> x = _humor_mesh->geometry().x();
+  const std::vector<double> now(x.begin(), x.end());
+  std::copy(_x_built.begin(), _x_built.end(), x.begin());
+  p->x()->scatter_fwd();
+  files.write(*p, *_motion->d, time);
+  std::copy(now.begin(), now.end(), x.begin());
+}
+
 std::int64_t Flow::dofs() const { return _own_unknowns->size_global(1); }
 
 } // namespace nct::humor_flow

@@ -18,6 +18,7 @@
 #include <petscmat.h>
 
 #include "cavity/cavity.h"
+#include "io/moving_fields.h"
 #include "mesh_motion/problem.h"
 #include "meshio/model.h"
 #include "solid/problem.h"
@@ -110,6 +111,9 @@ public:
   {
     return _motion->d;
   }
+  /// p~ at `time` into `files` (its file humor_pressure.xdmf), on the
+  /// humor's mesh where it is now. Collective.
+  void write(io::MovingFields& files, double time);
   /// Unknowns of p~ (all ranks).
   std::int64_t dofs() const;
   /// Wall nodes paired with the solid's.

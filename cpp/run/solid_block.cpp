@@ -261,6 +261,8 @@ void SolidBlock::write_fields(double time)
   problem.update_von_mises();
   _output->fields.write(*problem.u, time);
   _output->fields.write(*problem.von_mises, time);
+  if (flowing() && _output->humor)
+    flow->write(*_output->humor, time);
   _output->t_output += MPI_Wtime() - t;
 }
 
@@ -372,6 +374,8 @@ nlohmann::json SolidBlock::save(io::CheckpointWriter& writer) const
                        {"dynamic", _dynamic},
                        {"t_output", t_output()},
                        {"fields", _output ? _output->fields.state() : nlohmann::json()},
+                       {"humor_fields", _output && _output->humor ? _output->humor->state()
+                                                                  : nlohmann::json()},
                        {"frames", frames ? frames->state() : nlohmann::json()}};
   if (_closed)
     state["closed"] = {{"pressures", _closed->pressures()},
@@ -405,6 +409,9 @@ void SolidBlock::restore(const io::CheckpointReader& checkpoint, const nlohmann:
   _output.emplace(folder, mesh, problem, probes);
   if (const auto& fields = state.at("fields"); !fields.is_null())
     _output->fields.resume(fields);
+  if (const auto humor = state.value("humor_fields", nlohmann::json()); !humor.is_null()
+                                                                         && _output->humor)
+    _output->humor->resume(humor);
   _output->t_output = state.at("t_output");
   if (_dynamic)
   {

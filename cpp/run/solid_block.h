@@ -12,6 +12,7 @@
 
 #include "biomarkers/record.h"
 #include "cavity/cavity.h"
+#include "io/moving_fields.h"
 #include "io/output.h"
 #include "run/block.h"
 #include "run/stepper.h"
@@ -139,12 +140,15 @@ private:
     Output(io::RunFolder& folder, const MeshSetup& mesh, solid::Problem& problem,
            const std::vector<std::array<double, 3>>& points)
         : folder(folder), probes(problem, points),
-          fields(folder, mesh.mesh.mesh, problem.coordinate_space())
+          fields(folder, mesh.mesh.mesh, problem.coordinate_space()),
+          humor(mesh.humor ? std::make_unique<io::MovingFields>(folder, mesh.humor->mesh) : nullptr)
     {
     }
     io::RunFolder& folder;
     solid::Probes probes;
     io::Fields fields;
+    /// The humor's pressure on its moving mesh (with its flow).
+    std::unique_ptr<io::MovingFields> humor;
     double t_output = 0; ///< wall time spent writing fields [s]
   };
   std::optional<Output> _output;
