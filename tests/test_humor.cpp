@@ -48,7 +48,7 @@ Vibration vibrate(const std::string& scene, const std::vector<std::string>& sets
   nct::solver::set_petsc_options({});
   nct::solver::Newton newton(MPI_COMM_WORLD, A.mat());
   nct::cavity::Closed closed(problem, {0.0});
-  const nct::solver::NewtonSettings settings{25, 1e-10, 1e-13, true, false};
+  const nct::solver::NewtonSettings settings{25, 1e-10, 1e-10, 0, false};
   problem.start_dynamics({dt, 0.8, 0.0});
   const double push = 0.1, held = closed.targets()[0];
   Vibration v;

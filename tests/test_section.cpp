@@ -72,7 +72,7 @@ void march(const std::string& scene, const std::vector<std::string>& sets,
   nct::solver::set_petsc_options({});
   nct::solver::Newton newton(MPI_COMM_WORLD, A.mat());
   nct::cavity::Open open(problem);
-  const nct::solver::NewtonSettings settings{25, 1e-10, 1e-12, true, false};
+  const nct::solver::NewtonSettings settings{25, 1e-10, 1e-10, 0, false};
   problem.start_dynamics(step);
   for (int n = 0; (n + 1) * step.dt <= end + 1e-12; ++n)
   {
