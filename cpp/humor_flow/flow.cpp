@@ -889,6 +889,32 @@ void Flow::measure_linearisation()
   _range_max = std::max(_range_max, hi - lo);
 }
 
+double Flow::kinetic_energy() const
+{
+  const auto v = cell_volumes(*_humor_mesh);
+  const auto& mesh = *_humor_mesh;
+  const auto x = mesh.geometry().x();
+  const bool axisymmetric = _solid.dimension() == section::Dimension::axisymmetric;
+  double e = 0;
+  for (std::size_t c = 0; c < v.size() && 3 * c + 2 < _w.size(); ++c)
+  {
+    // A section's cell: its area times its centroid's radius (per radian).
+    double volume = std::abs(v[c]) / (mesh.topology().dim() == 2 ? 2.0 : 6.0);
+    if (axisymmetric)
+    {
+      double r = 0;
+      auto nodes = mesh.geometry().dofmap().links(c);
+      for (auto n : nodes)
+        r += x[3 * n] / double(nodes.size());
+      volume *= r;
+    }
+    e += 0.5 * _density * volume
+         * (_w[3 * c] * _w[3 * c] + _w[3 * c + 1] * _w[3 * c + 1] + _w[3 * c + 2] * _w[3 * c + 2]);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &e, 1, MPI_DOUBLE, MPI_SUM, _humor_mesh->comm());
+  return e;
+}
+
 void Flow::advance()
 {
   measure_linearisation();

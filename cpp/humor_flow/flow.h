@@ -127,6 +127,9 @@ public:
   /// w_{n+1} = w_n - dt grad p~ / rho (per cell, the step's gradient).
   double pressure_range_max() const { return _range_max; }
   double bernoulli_max() const { return _bernoulli_max; }
+  /// The humor's kinetic energy rho/2 integral |w|^2 dV at the last
+  /// converged step, w as above [mJ, meshed part]. Collective.
+  double kinetic_energy() const;
   /// The humor's smallest cell volume now over as built (negative: folded),
   /// and where (current coordinates). Collective.
   std::pair<double, std::array<double, 3>> smallest_cell_ratio() const;

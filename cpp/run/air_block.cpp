@@ -414,7 +414,9 @@ CouplingBlock::Energy::State CouplingBlock::energy_state() const
   const double kinetic = solid.kinetic_energy();
   // The humors' kinetic energy is the work their inertial pressure took.
   const auto* humor = solid.humor_inertia();
-  const double humor_kinetic = humor ? humor->kinetic_energy() * solid.symmetry_factor() : 0.0;
+  double humor_kinetic = humor ? humor->kinetic_energy() * solid.symmetry_factor() : 0.0;
+  if (_solid.flow) // the flowing humor's, from its Euler velocity
+    humor_kinetic += _solid.flow->kinetic_energy() * solid.symmetry_factor();
   return {kinetic, kinetic + humor_kinetic + solid.strain_energy(), solid.cavity_volumes(),
           _solid.cavity_pressures()};
 }
