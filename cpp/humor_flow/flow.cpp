@@ -211,7 +211,7 @@ Flow::Flow(solid::Problem& solid, const meshio::Tagged& humor, const Boundaries&
     h.facets = std::make_shared<mesh::MeshTags<std::int32_t>>(humor.mesh, fdim, facets, values);
     mesh_motion::Settings ms;
     _motion = std::make_unique<mesh_motion::Problem>(h, ms, mb);
-    std::const_pointer_cast<fem::Function<double>>(_motion->d)->name = "humor_mesh_displacement";
+    _motion->d->name = "humor_mesh_displacement";
   }
 
   choose_held_nodes(humor, boundaries);
@@ -956,16 +956,6 @@ std::pair<double, std::array<double, 3>> Flow::smallest_cell_ratio() const
   }
   MPI_Bcast(at.data(), 3, MPI_DOUBLE, best.rank, _humor_mesh->comm());
   return {best.value, at};
-}
-
-double Flow::largest_pressure() const
-{
-  double m = 0;
-  const auto x = p->x()->array();
-  for (std::int32_t b = 0; b < _humor_owned; ++b)
-    m = std::max(m, std::abs(x[b]));
-  MPI_Allreduce(MPI_IN_PLACE, &m, 1, MPI_DOUBLE, MPI_MAX, _humor_mesh->comm());
-  return m;
 }
 
 void Flow::write(io::MovingFields& files, double time)

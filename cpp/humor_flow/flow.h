@@ -106,11 +106,6 @@ public:
 
   /// p~ [MPa] on the humor mesh: the pressure less the cavity's.
   std::shared_ptr<dolfinx::fem::Function<double>> p;
-  /// The humor mesh's displacement from its geometry as built [mm].
-  std::shared_ptr<const dolfinx::fem::Function<double>> mesh_displacement() const
-  {
-    return _motion->d;
-  }
   /// p~ at `time` into `files` (its file humor_pressure.xdmf), on the
   /// humor's mesh where it is now. Collective.
   void write(io::MovingFields& files, double time);
@@ -118,8 +113,6 @@ public:
   std::int64_t dofs() const;
   /// Wall nodes paired with the solid's.
   std::size_t wall_nodes() const { return _pairs.size(); }
-  /// The largest |p~| [MPa] now. Collective.
-  double largest_pressure() const;
   /// What the linearisation leaves out, measured over the converged steps
   /// since start() [MPa]: the largest range of p~ over the humor (its
   /// flow's own pressure differences), and the largest Bernoulli term
