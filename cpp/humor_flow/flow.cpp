@@ -98,22 +98,10 @@ std::vector<std::int32_t> facets_of(const meshio::Tagged& m, const std::vector<s
 /// Signed volume (area on a section) of each local cell of an affine mesh.
 std::vector<double> cell_volumes(const mesh::Mesh& mesh)
 {
-  const int tdim = mesh.topology().dim();
-  const std::int32_t cells = mesh.topology().index_map(tdim)->size_local();
-  const auto& x = mesh.geometry().x();
+  const std::int32_t cells = mesh.topology().index_map(mesh.topology().dim())->size_local();
   std::vector<double> v(cells);
   for (std::int32_t c = 0; c < cells; ++c)
-  {
-    auto g = mesh.geometry().dofmap().links(c);
-    std::array<std::array<double, 3>, 3> e{};
-    e[2][2] = 1;
-    for (int i = 0; i < tdim; ++i)
-      for (int j = 0; j < 3; ++j)
-        e[i][j] = x[3 * g[i + 1] + j] - x[3 * g[0] + j];
-    v[c] = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1])
-           - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0])
-           + e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
-  }
+    v[c] = meshio::determinant(meshio::cell_edges(mesh, c));
   return v;
 }
 
@@ -223,6 +211,7 @@ Flow::Flow(solid::Problem& solid, const meshio::Tagged& humor, const Boundaries&
   pair(humor, boundaries);
   _solid_held = solid.dynamic_dirichlet_marker(); // the systems run in the dynamics
   _b_solid = std::make_unique<la::Vector<double>>(solid.u->x()->map(), solid.u->x()->bs());
+  _b_wall = std::make_unique<la::Vector<double>>(solid.u->x()->map(), solid.u->x()->bs());
   _solid_owned = solid.u->x()->map()->size_local() * solid.u->x()->bs();
   _b_humor = std::make_unique<la::Vector<double>>(p->x()->map(), 1);
   _b_scalar = std::make_unique<la::Vector<double>>(S->dofmap()->index_map, 1);
@@ -407,18 +396,19 @@ void Flow::make_forms()
          {"p", p}};
   const std::map<fem::IntegralType, const mesh::MeshTags<int>*> walls
       = {{fem::IntegralType::exterior_facet, &_solid.load_tags()}};
+  // A form takes only the coefficients and constants it names; a
+  // functional (no spaces) is on the solid's mesh.
   auto make = [&](const ufcx_form* form, std::vector<std::shared_ptr<const fem::FunctionSpace>> spaces,
                   const std::map<fem::IntegralType, const mesh::MeshTags<int>*>& subdomains)
   {
-    // A form takes only the coefficients and constants it names.
     std::map<std::string, std::shared_ptr<const fem::Function<double>>> w;
     for (int i = 0; i < form->num_coefficients; ++i)
       w[form->coefficient_name_map()[i]] = coefficients.at(form->coefficient_name_map()[i]);
     std::map<std::string, std::shared_ptr<const fem::Constant<double>>> c;
     for (int i = 0; i < form->num_constants; ++i)
       c[form->constant_name_map()[i]] = constants.at(form->constant_name_map()[i]);
-    return std::make_shared<fem::Form<double>>(
-        fem::create_form<double>(*form, spaces, w, c, subdomains));
+    return std::make_shared<fem::Form<double>>(fem::create_form<double>(
+        *form, spaces, w, c, subdomains, spaces.empty() ? V->mesh() : nullptr));
   };
   _load = make(k.load, {V}, walls);
   _load_u = make(k.load_u, {V, V}, walls);
@@ -431,21 +421,9 @@ void Flow::make_forms()
   {
     _cut_normal = make(k.cut_normal, {V}, walls);
     _lid_area = make(k.lid_area, {Q}, {{fem::IntegralType::exterior_facet, _lid_tags.get()}});
-    // Functionals: on the solid's mesh.
-    auto functional = [&](const ufcx_form* form)
-    {
-      std::map<std::string, std::shared_ptr<const fem::Function<double>>> w;
-      for (int i = 0; i < form->num_coefficients; ++i)
-        w[form->coefficient_name_map()[i]] = coefficients.at(form->coefficient_name_map()[i]);
-      std::map<std::string, std::shared_ptr<const fem::Constant<double>>> c;
-      for (int i = 0; i < form->num_constants; ++i)
-        c[form->constant_name_map()[i]] = constants.at(form->constant_name_map()[i]);
-      return std::make_shared<fem::Form<double>>(
-          fem::create_form<double>(*form, {}, w, c, walls, V->mesh()));
-    };
-    _cut_area = functional(k.cut_area);
-    _cut_flux = functional(k.cut_flux);
-    _cut_motion = functional(k.cut_motion);
+    _cut_area = make(k.cut_area, {}, walls);
+    _cut_flux = make(k.cut_flux, {}, walls);
+    _cut_motion = make(k.cut_motion, {}, walls);
   }
 }
 
@@ -459,7 +437,8 @@ double Flow::total(const fem::Form<double>& form) const
 void Flow::measure_cut()
 {
   _cut_area_value = total(*_cut_area);
-  la::Vector<double> n(_b_solid->map(), _b_solid->bs());
+  auto& n = *_b_wall;
+  std::fill(n.mutable_array().begin(), n.mutable_array().end(), 0.0);
   fem::assemble_vector(n.mutable_array(), *_cut_normal);
   n.scatter_rev(std::plus<double>());
   const int bs = _b_solid->bs();
@@ -549,7 +528,8 @@ void Flow::add_residual(std::span<double> bs, std::span<double> bh)
   set_wall_pressures();
   // The wall's load, on the solid's free rows.
   auto& load = *_b_scalar; // reused below for the flux
-  la::Vector<double> wall(_b_solid->map(), _b_solid->bs());
+  auto& wall = *_b_wall;
+  std::fill(wall.mutable_array().begin(), wall.mutable_array().end(), 0.0);
   fem::assemble_vector(wall.mutable_array(), *_load);
   wall.scatter_rev(std::plus<double>());
   for (std::int32_t i = 0; i < _solid_owned; ++i)
@@ -841,7 +821,6 @@ void Flow::measure_linearisation()
   const auto& mesh = *_humor_mesh;
   const int tdim = mesh.topology().dim();
   const std::int32_t cells = mesh.topology().index_map(tdim)->size_local();
-  const auto x = mesh.geometry().x();
   const auto values = p->x()->array();
   const double dt = _solid.time_constant("dt")->value[0];
   _w.resize(3 * cells, 0.0);
@@ -850,33 +829,21 @@ void Flow::measure_linearisation()
     lo = std::min(lo, values[b]), hi = std::max(hi, values[b]);
   for (std::int32_t c = 0; c < cells; ++c)
   {
-    auto nodes = mesh.geometry().dofmap().links(c);
     auto dofs = p->function_space()->dofmap()->cell_dofs(c);
-    // Rows: the edges from vertex 0; a triangle's third is e_z (gradient 0).
-    std::array<std::array<double, 3>, 3> e{};
+    // The edges' rows (a triangle's third is e_z, gradient 0) times grad p~
+    // are the value differences along them: Cramer's rule.
+    const auto e = meshio::cell_edges(mesh, c);
     std::array<double, 3> dp{0, 0, 0};
-    e[2][2] = 1;
     for (int i = 0; i < tdim; ++i)
-    {
-      for (int j = 0; j < 3; ++j)
-        e[i][j] = x[3 * nodes[i + 1] + j] - x[3 * nodes[0] + j];
       dp[i] = values[dofs[i + 1]] - values[dofs[0]];
-    }
-    // Cramer's rule for e g = dp.
-    auto det = [](const std::array<std::array<double, 3>, 3>& m)
-    {
-      return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-             - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-             + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-    };
-    const double d = det(e);
+    const double d = meshio::determinant(e);
     double speed2 = 0;
     for (int k = 0; k < 3; ++k)
     {
       auto ek = e;
       for (int i = 0; i < 3; ++i)
         ek[i][k] = dp[i];
-      _w[3 * c + k] -= dt * det(ek) / d / _density;
+      _w[3 * c + k] -= dt * meshio::determinant(ek) / d / _density;
       speed2 += _w[3 * c + k] * _w[3 * c + k];
     }
     bernoulli = std::max(bernoulli, 0.5 * _density * speed2);

@@ -192,7 +192,9 @@ private:
   std::vector<std::int32_t> _active; ///< the others
   std::int32_t _solid_owned = 0, _scalar_owned = 0, _humor_owned = 0;
   std::vector<std::int8_t> _solid_held;
-  std::unique_ptr<dolfinx::la::Vector<double>> _b_solid, _b_humor, _b_scalar;
+  /// Scratch: the solid's residual and the wall's load on it (laid out as
+  /// u), the humor's rows, a P1 vector of the solid's mesh.
+  std::unique_ptr<dolfinx::la::Vector<double>> _b_solid, _b_wall, _b_humor, _b_scalar;
   std::map<std::string, double> _timings;
   /// system()'s unknowns and their places.
   std::unique_ptr<solver::Monolithic> _own_unknowns;

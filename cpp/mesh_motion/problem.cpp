@@ -117,7 +117,6 @@ Problem::Problem(const meshio::Tagged& m, const Settings& settings, const Bounda
   // Jacobian determinants, so that k <= scale.
   const auto& mesh = *m.mesh;
   const std::int32_t cells = mesh.topology().index_map(gdim)->size_local();
-  const auto& x = mesh.geometry().x();
   std::vector<std::int32_t> moving_cells;
   double smallest = std::numeric_limits<double>::infinity();
   for (std::int32_t c = 0; c < cells; ++c)
@@ -126,17 +125,7 @@ Problem::Problem(const meshio::Tagged& m, const Settings& settings, const Bounda
     if (std::none_of(dofs.begin(), dofs.end(), [&](auto b) { return bool(moves[b]); }))
       continue;
     moving_cells.push_back(c);
-    auto g = mesh.geometry().dofmap().links(c);
-    // The edges from the first vertex; a triangle's third is e_z.
-    std::array<std::array<double, 3>, 3> e{};
-    e[2][2] = 1;
-    for (int i = 0; i < gdim; ++i)
-      for (int j = 0; j < 3; ++j)
-        e[i][j] = x[3 * g[i + 1] + j] - x[3 * g[0] + j];
-    const double det = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1])
-                       - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0])
-                       + e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
-    smallest = std::min(smallest, std::abs(det));
+    smallest = std::min(smallest, std::abs(meshio::determinant(meshio::cell_edges(mesh, c))));
   }
   MPI_Allreduce(MPI_IN_PLACE, &smallest, 1, MPI_DOUBLE, MPI_MIN, mesh.comm());
   _moving = std::make_shared<mesh::MeshTags<std::int32_t>>(

@@ -487,6 +487,27 @@ std::int32_t add_interface(Model& model, const std::vector<std::int32_t>& first,
   return tag;
 }
 
+std::array<std::array<double, 3>, 3> cell_edges(const dolfinx::mesh::Mesh& mesh,
+                                                std::int32_t cell)
+{
+  const int tdim = mesh.topology().dim();
+  const auto x = mesh.geometry().x();
+  auto g = mesh.geometry().dofmap().links(cell);
+  std::array<std::array<double, 3>, 3> e{};
+  e[2][2] = 1;
+  for (int i = 0; i < tdim; ++i)
+    for (int j = 0; j < 3; ++j)
+      e[i][j] = x[3 * g[i + 1] + j] - x[3 * g[0] + j];
+  return e;
+}
+
+double determinant(const std::array<std::array<double, 3>, 3>& m)
+{
+  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+         - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
 int normal_axis(const dolfinx::mesh::Mesh& mesh,
                 const dolfinx::mesh::MeshTags<std::int32_t>& facets, std::int32_t group)
 {

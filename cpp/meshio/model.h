@@ -130,6 +130,16 @@ retag(const dolfinx::mesh::MeshTags<std::int32_t>& tags,
 int normal_axis(const dolfinx::mesh::Mesh& mesh,
                 const dolfinx::mesh::MeshTags<std::int32_t>& facets, std::int32_t group);
 
+/// The edges of an affine cell from its first vertex, as rows (a
+/// triangle's third row is e_z): the cell's Jacobian, transposed; its
+/// determinant is 6 times a tetrahedron's signed volume, 2 times a
+/// triangle's signed area.
+std::array<std::array<double, 3>, 3> cell_edges(const dolfinx::mesh::Mesh& mesh,
+                                                std::int32_t cell);
+
+/// The determinant of a 3 x 3 matrix.
+double determinant(const std::array<std::array<double, 3>, 3>& m);
+
 /// The smallest and largest coordinate `axis` of the nodes of a facet
 /// group (collective; an empty group gives (inf, -inf)).
 std::pair<double, double> coordinate_range(const dolfinx::mesh::Mesh& mesh,
