@@ -113,7 +113,12 @@ force_z = -traction[2] * X_r * ds(INTERFACE)
 # The power the air's stress delivers to the solid [W = N mm/ms] (meshed part).
 traction_power = -dot(traction, section.vector(u, dimension)) * X_r * ds(INTERFACE)  # noqa: F821
 
-forms = [R, J, J_mesh, force_x, force_y, force_z, traction_power]
+# The current volume and the pressure's integral over it: a closed fluid's
+# (the humor's) mean pressure.
+volume = det(F) * X_r * dx
+pressure_volume = p * det(F) * X_r * dx
+
+forms = [R, J, J_mesh, force_x, force_y, force_z, traction_power, volume, pressure_volume]
 mesh_jacobian = det(F)
 expressions = [(mesh_jacobian, [[0.25, 0.25, 0.25] if dimension == "3d"  # noqa: F821
                                 else [1.0 / 3.0, 1.0 / 3.0]])]

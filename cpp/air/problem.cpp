@@ -35,7 +35,8 @@ struct Kernels
   ufcx_function_space* (*space)(const char*);
   ufcx_form *R, *J;
   ufcx_function_space* (*space_ale)(const char*);
-  ufcx_form *R_ale, *J_ale, *J_mesh, *force_x, *force_y, *force_z, *traction_power;
+  ufcx_form *R_ale, *J_ale, *J_mesh, *force_x, *force_y, *force_z, *traction_power, *volume,
+      *pressure_volume;
   ufcx_expression* mesh_jacobian;
 };
 
@@ -45,7 +46,8 @@ struct Kernels
           form_air_ale_p1_full##d##_R, form_air_ale_p1_full##d##_J,                         \
           form_air_ale_p1_full##d##_J_mesh, form_air_ale_p1_full##d##_force_x,              \
           form_air_ale_p1_full##d##_force_y, form_air_ale_p1_full##d##_force_z,             \
-          form_air_ale_p1_full##d##_traction_power,                                        \
+          form_air_ale_p1_full##d##_traction_power, form_air_ale_p1_full##d##_volume,        \
+          form_air_ale_p1_full##d##_pressure_volume,                                       \
           expression_air_ale_p1_full##d##_mesh_jacobian}
 
 Kernels kernels(section::Dimension d)
@@ -138,6 +140,8 @@ Problem::Problem(const meshio::Tagged& m, const Fluid& fluid, const Boundaries& 
     _J_mesh = form(*k.J_mesh, {W, d->function_space()});
     _force = {form(*k.force_x, {}), form(*k.force_y, {}), form(*k.force_z, {})};
     _traction_power = form(*k.traction_power, {});
+    _volume = form(*k.volume, {});
+    _pressure_volume = form(*k.pressure_volume, {});
     _mesh_jacobian = std::make_shared<fem::Expression<double>>(
         fem::create_expression<double>(*k.mesh_jacobian, coeffs, {}, m.mesh));
   }
@@ -323,6 +327,13 @@ double Problem::traction_power() const
   double p = fem::assemble_scalar(*_traction_power);
   MPI_Allreduce(MPI_IN_PLACE, &p, 1, MPI_DOUBLE, MPI_SUM, up->function_space()->mesh()->comm());
   return p;
+}
+
+double Problem::mean_pressure() const
+{
+  std::array<double, 2> v{fem::assemble_scalar(*_pressure_volume), fem::assemble_scalar(*_volume)};
+  MPI_Allreduce(MPI_IN_PLACE, v.data(), 2, MPI_DOUBLE, MPI_SUM, up->function_space()->mesh()->comm());
+  return v[0] / v[1];
 }
 
 std::vector<std::array<std::int32_t, 2>>

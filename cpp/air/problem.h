@@ -136,6 +136,9 @@ public:
   /// Moving: the power the air's stress delivers to the solid on the
   /// interface, -integral sigma n . u da [W] (the meshed part; every rank).
   double traction_power() const;
+  /// Moving: the pressure's mean over the current domain [MPa] (the
+  /// meshed part; every rank gets it).
+  double mean_pressure() const;
   /// The owned velocity dofs (local index in (u, p), component) on the
   /// facets of these groups, each node once: where force_on sums.
   std::vector<std::array<std::int32_t, 2>> wall_dofs(const std::vector<std::int32_t>& groups) const;
@@ -152,7 +155,7 @@ private:
   int _gdim = 3; ///< the mesh's dimension
   std::shared_ptr<dolfinx::fem::Form<double>> _R, _J, _J_mesh;
   std::array<std::shared_ptr<dolfinx::fem::Form<double>>, 3> _force;
-  std::shared_ptr<dolfinx::fem::Form<double>> _traction_power;
+  std::shared_ptr<dolfinx::fem::Form<double>> _traction_power, _volume, _pressure_volume;
   std::shared_ptr<dolfinx::fem::Expression<double>> _mesh_jacobian;
   std::map<std::string, std::shared_ptr<dolfinx::fem::Constant<double>>> _constants;
   std::shared_ptr<dolfinx::fem::Function<double>> _inlet_shape, _inlet; ///< collapsed velocity space

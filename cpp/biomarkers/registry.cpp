@@ -62,6 +62,8 @@ const std::vector<Entry>& registry()
       {"humor_bernoulli_max_mmHg", "mmHg", "with the humor's flow: the largest Bernoulli term "
                                            "rho |w|^2 / 2 its linearisation leaves out (w from "
                                            "Euler's equation)", false},
+      {"humor_speed_max_m_s", "m/s", "with the humor as Navier-Stokes: its largest speed",
+       false},
       {"newton_iterations", "", "Newton iterations, all phases", false},
       {"step_cuts", "", "increments halved after a failed step", false},
       {"wall_s", "s", "wall time of the whole run", false}};

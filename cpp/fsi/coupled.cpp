@@ -75,14 +75,15 @@ std::string where(const Place& x)
 
 Coupled::Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem& motion,
                  const meshio::Tagged& solid_mesh, const meshio::Tagged& air_mesh,
-                 const Interface& interface, bool shape_derivative, humor_flow::Flow* flow)
+                 const Interface& interface, bool shape_derivative, humor_flow::Flow* flow,
+                 const std::string& fluid)
     : _solid(solid), _air(air), _motion(motion), _flow(flow), _air_mesh(air_mesh.mesh),
       _shape_derivative(shape_derivative), _gdim(solid_mesh.mesh->geometry().dim())
 {
   if (!air.moving() || air.d != motion.d)
     throw std::invalid_argument("fsi::Coupled: the air must move with the mesh motion's d");
   std::vector<solver::Monolithic::Field> fields{{"solid", solid.u, std::nullopt},
-                                                {"air", air.up, std::nullopt},
+                                                {fluid, air.up, std::nullopt},
                                                 {"mesh_motion", motion.d, motion.active()}};
   if (flow)
     fields.push_back(flow->field());

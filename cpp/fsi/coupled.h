@@ -73,10 +73,11 @@ public:
   /// `shape_derivative` false leaves the air's dR/dd block out of the
   /// Jacobian (a quasi-Newton method).
   /// `flow`: the humors' flow (its p~ the fourth field), or null.
+  /// `fluid`: the fluid's field name (in Newton's diagnostics).
   Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem& motion,
           const meshio::Tagged& solid_mesh, const meshio::Tagged& air_mesh,
           const Interface& interface, bool shape_derivative,
-          humor_flow::Flow* flow = nullptr);
+          humor_flow::Flow* flow = nullptr, const std::string& fluid = "air");
 
   /// Start coupling from the solid's current state: the air mesh is
   /// moved (its reference with it) so that its interface lies on the

@@ -120,8 +120,8 @@ eye_meshes(MPI_Comm comm, const Input& in, bool solid, bool air)
   const Settings& s = in.settings;
   const eye::Geometry& g = s.mesh.geometry;
   const bool with_eye = solid || s.air.rigid_eye;
-  // The humor's mesh, for its flow (cavity.humor_inertia = "flow").
-  const bool flow = solid && s.solid.cavity.humor_inertia == CavitySettings::HumorInertia::flow;
+  // The humor's mesh, for its flow or Navier-Stokes.
+  const bool flow = solid && s.solid.cavity.meshed_humor();
   meshio::GmshSession gmsh_session;
   const section::Dimension dimension = s.mesh.dimension;
   on_rank_0(comm, in, "the eye and the air",
@@ -207,11 +207,11 @@ std::pair<std::optional<MeshSetup>, std::optional<AirMesh>> file_meshes(MPI_Comm
                                                                      : solid_tags)
         .push_back(tag);
   // The humor's mesh, conforming to the cavity's wall (cavity.humor_inertia
-  // = "flow"; the other models leave it out).
+  // = "flow" or "navier_stokes"; the other models leave it out).
   std::optional<meshio::Tagged> humor;
   if (!humor_tags.empty())
   {
-    if (s.solid.cavity.humor_inertia == CavitySettings::HumorInertia::flow)
+    if (s.solid.cavity.meshed_humor())
       humor = meshio::distribute(comm, meshio::keep(whole, humor_tags));
     whole = meshio::keep(whole, [&]
                          {

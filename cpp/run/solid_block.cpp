@@ -37,9 +37,21 @@ SolidBlock::SolidBlock(MeshSetup mesh_setup, SolidBlockSettings s, bool is_eye)
       _press_peak(settings.solid.press.pressure * mmHg)
 {
   _open.emplace(problem);
-  if (mesh.humor)
+  const CavitySettings& cavity = settings.solid.cavity;
+  if (mesh.humor && cavity.humor_inertia == CavitySettings::HumorInertia::navier_stokes)
+  {
+    std::vector<std::int32_t> walls;
+    for (const auto& groups : mesh.boundaries.cavities)
+      walls.insert(walls.end(), groups.begin(), groups.end());
+    // Continuity rows scaled by the humor's speed under a puff, 0.2 m/s;
+    // the stabilisation bounded by the nominal time step, as the air's.
+    navier_stokes = std::make_unique<humor_flow::NavierStokes>(
+        problem, mesh.mesh, walls, *mesh.humor, mesh.humor_boundaries, cavity.humor_density,
+        cavity.humor_viscosity, 0.2, settings.time_step.dt);
+  }
+  else if (mesh.humor)
     flow = std::make_unique<humor_flow::Flow>(problem, *mesh.humor, mesh.humor_boundaries,
-                                              settings.solid.cavity.humor_density);
+                                              cavity.humor_density);
   _press_profile = [](const auto&) { return 1.0; };
   if (settings.solid.press.gaussian)
   {
@@ -76,6 +88,17 @@ void SolidBlock::describe(nlohmann::json& summary, io::RunFolder& folder) const
                       "(cavity.humor_inertia = \"flow\")",
                       (long long)humor_cells, (long long)flow->dofs(), flow->wall_nodes()));
   }
+  if (navier_stokes)
+  {
+    const auto& t = mesh.humor->mesh->topology();
+    const std::int64_t humor_cells = t.index_map(t.dim())->size_global();
+    summary["humor_cells"] = humor_cells;
+    summary["humor_dofs"] = navier_stokes->dofs();
+    folder.log(format("humor: %lld cells, %lld velocity and pressure unknowns, %zu wall nodes "
+                      "(cavity.humor_inertia = \"navier_stokes\")",
+                      (long long)humor_cells, (long long)navier_stokes->dofs(),
+                      navier_stokes->wall_nodes()));
+  }
   if (!mesh.probe_names.empty())
     folder.log("step lines: '" + mesh.probe_names[0]
                + " u' is the displacement from the reference (stress-free) geometry [mm], as in "
@@ -102,6 +125,8 @@ solver::System SolidBlock::system()
 {
   if (flowing())
     return flow->system(_closed ? &*_closed : nullptr);
+  if (viscous()) // the humor holds its volume; the wall keeps the cavity's pressure as closed
+    return navier_stokes->system();
   return _closed ? _closed->system() : _open->system();
 }
 
@@ -115,7 +140,8 @@ biomarkers::Columns SolidBlock::cavity_state() const
   biomarkers::Columns state;
   for (std::size_t c = 0; c < volumes.size(); ++c)
   {
-    const double p = pressures[c] + (humor ? humor->mean_pressure_shift(c) : 0.0);
+    const double p = pressures[c] + (humor ? humor->mean_pressure_shift(c) : 0.0)
+                     + (viscous() ? navier_stokes->mean_pressure() : 0.0);
     state.push_back({mesh.cavity_names[c] + "_pressure_mmHg", p / mmHg});
     state.push_back({mesh.cavity_names[c] + "_volume_mm3", volumes[c]});
   }
@@ -169,6 +195,11 @@ void SolidBlock::start_dynamics()
   problem.start_dynamics(settings.time_step);
   if (flow)
     flow->start();
+  if (navier_stokes)
+  {
+    navier_stokes->start();
+    navier_stokes->unknowns().pack();
+  }
   open_frames();
 }
 
@@ -190,6 +221,10 @@ Stepper::Dynamics SolidBlock::dynamics()
               problem.predict();
               flow->unknowns().pack();
             }};
+  if (viscous())
+    // x holds the solid's u and the humor's (u, p) and mesh displacement.
+    return {[this](double dt) { navier_stokes->set_time_step(settings.time_step.with_dt(dt)); },
+            [this] { return problem.load_level(); }, [this] { navier_stokes->advance(); }};
   return {[this](double dt) { problem.set_time_step(settings.time_step.with_dt(dt)); },
           [this] { return problem.load_level(); }, [this] { problem.advance(); },
           [this] { problem.predict(); }};
@@ -263,6 +298,15 @@ void SolidBlock::write_fields(double time)
   _output->fields.write(*problem.von_mises, time);
   if (flowing() && _output->humor)
     flow->write(*_output->humor, time);
+  if (viscous() && _output->humor)
+  {
+    auto& fluid = navier_stokes->fluid();
+    navier_stokes->unknowns().unpack();
+    fluid.update_fields();
+    fluid.d->x()->scatter_fwd();
+    _output->humor->write(*fluid.pressure, *fluid.d, time);
+    _output->humor->write(*fluid.velocity, *fluid.d, time);
+  }
   _output->t_output += MPI_Wtime() - t;
 }
 
@@ -321,6 +365,12 @@ void SolidBlock::summarise(nlohmann::json& summary) const
     biomarkers::put(summary, "humor_pressure_range_max_mmHg", flow->pressure_range_max() / mmHg);
     biomarkers::put(summary, "humor_bernoulli_max_mmHg", flow->bernoulli_max() / mmHg);
   }
+  if (navier_stokes)
+  {
+    biomarkers::put(summary, "humor_pressure_range_max_mmHg",
+                    navier_stokes->pressure_range_max() / mmHg);
+    biomarkers::put(summary, "humor_speed_max_m_s", navier_stokes->speed_max());
+  }
 }
 
 void SolidBlock::add_frame(double t, double dt, const solver::NewtonReport& report,
@@ -377,6 +427,8 @@ nlohmann::json SolidBlock::save(io::CheckpointWriter& writer) const
                        {"humor_fields", _output && _output->humor ? _output->humor->state()
                                                                   : nlohmann::json()},
                        {"frames", frames ? frames->state() : nlohmann::json()}};
+  if (viscous())
+    state["humor_navier_stokes"] = navier_stokes->save(writer);
   if (_closed)
     state["closed"] = {{"pressures", _closed->pressures()},
                        {"targets", _closed->targets()},
@@ -406,6 +458,11 @@ void SolidBlock::restore(const io::CheckpointReader& checkpoint, const nlohmann:
     problem.set_cavity_pressures(_open_pressures);
   if (flow && _dynamic)
     flow->start(); // the humor mesh onto the restored wall
+  if (navier_stokes && _dynamic)
+  {
+    navier_stokes->restore(checkpoint, state.at("humor_navier_stokes"));
+    navier_stokes->unknowns().pack();
+  }
   _output.emplace(folder, mesh, problem, probes);
   if (const auto& fields = state.at("fields"); !fields.is_null())
     _output->fields.resume(fields);

@@ -12,6 +12,7 @@
 
 #include "biomarkers/record.h"
 #include "cavity/cavity.h"
+#include "humor_flow/navier_stokes.h"
 #include "io/moving_fields.h"
 #include "io/output.h"
 #include "run/block.h"
@@ -74,6 +75,11 @@ public:
   /// Whether the Newton system is the solid's with the humors' flow: in
   /// the dynamics.
   bool flowing() const { return flow && _dynamic; }
+  /// The humor as Navier-Stokes (cavity.humor_inertia = "navier_stokes"), or null.
+  std::unique_ptr<humor_flow::NavierStokes> navier_stokes;
+  /// Whether the Newton system is the solid's coupled to the humor as
+  /// Navier-Stokes: in the dynamics.
+  bool viscous() const { return navier_stokes && _dynamic; }
   /// The Newton system now: the closed cavities bordered, or open.
   solver::System system();
   /// Each cavity's pressure [mmHg] and volume [mm^3] now.

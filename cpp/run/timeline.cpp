@@ -63,6 +63,10 @@ solver::Newton& RunState::solid_newton()
   // humors' pressure stacked: one AIJ matrix, LU.
   if (model.solid->flowing())
     return newton("solid_humor_flow", [&] { return model.solid->flow->create_matrix(); });
+  // As Navier-Stokes: the solid, the humor's velocity, pressure and mesh; LU.
+  if (model.solid->viscous())
+    return newton("solid_humor_navier_stokes",
+                  [&] { return model.solid->navier_stokes->create_matrix(); });
   // LDL^T (solver.factorisation): the upper triangle and MUMPS' LDL^T of
   // the symmetric matrix it stands for (the follower pressures' skew part
   // is left to the Newton iteration). A preconditioner named on the command

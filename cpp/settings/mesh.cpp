@@ -109,7 +109,7 @@ void visit(scene::Visitor& v, Refinement& r)
   v.real({"mesh.size_humor", "0.5", "mm", 0.01, 10,
           "eye: largest element of the humor's mesh (cavity.humor_inertia = \"flow\"), graded "
           "from the wall's spacing",
-          "mesh.source=eye,cavity.humor_inertia=flow"},
+          "mesh.source=eye,cavity.humor_inertia=flow|navier_stokes"},
          r.size_humor);
 }
 

@@ -139,17 +139,37 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
   if (humor != HumorInertia::none && !eye && s.mesh.boundary.cavity_wall.empty())
     at("cavity.humor_inertia", "key 'cavity.humor_inertia': " + humor_name + " needs a cavity, "
                                "but boundary.cavity_wall names no group");
-  if (humor == HumorInertia::flow && eye
+  const bool meshed = humor == HumorInertia::flow || humor == HumorInertia::navier_stokes;
+  if (meshed && eye
       && (s.mesh.dimension != section::Dimension::axisymmetric
           || s.mesh.geometry.internal_structures))
-    at("cavity.humor_inertia", "key 'cavity.humor_inertia': \"flow\" needs the humor's mesh, "
+    at("cavity.humor_inertia", "key 'cavity.humor_inertia': " + humor_name + " needs the humor's mesh, "
                                "which the idealised eye builds on its axisymmetric section "
                                "without internal structures only (mesh.dimension = "
                                "\"axisymmetric\"), not yet in 3D or with the lens; or a file "
                                "mesh with cavity.humor_groups, or \"translation\"");
-  if (humor == HumorInertia::flow && !eye && s.solid.cavity.humor_groups.empty())
-    at("cavity.humor_groups", "key 'cavity.humor_groups': cavity.humor_inertia = \"flow\" "
-                              "needs the humor's volume groups, but it names none");
+  if (meshed && !eye && s.solid.cavity.humor_groups.empty())
+    at("cavity.humor_groups", "key 'cavity.humor_groups': cavity.humor_inertia = " + humor_name
+                                  + " needs the humor's volume groups, but it names none");
+  // The humor as Navier-Stokes: one fluid coupled at a time, its volume
+  // held by its incompressibility, its lid (an eye's cut) a wall at rest.
+  if (humor == HumorInertia::navier_stokes && !s.puff.prescribed() && load != Load::none)
+    at("cavity.humor_inertia", "key 'cavity.humor_inertia': \"navier_stokes\" couples the "
+                               "humor to the solid under a prescribed puff (puff.load = "
+                               "\"gaussian\", \"pulse\" or \"table\"); with the air coupled "
+                               "too (\"fsi\") the model is \"flow\"");
+  if (humor == HumorInertia::navier_stokes && eye && s.mesh.geometry.internal_structures)
+    at("cavity.humor_inertia", "key 'cavity.humor_inertia': \"navier_stokes\" meshes one "
+                               "chamber; with the internal structures (two) the model is "
+                               "\"flow\"");
+  if (humor == HumorInertia::navier_stokes && open_humor)
+    at("boundary.humor_open", "key 'boundary.humor_open': \"navier_stokes\" models a closed "
+                              "humor only");
+  if (humor == HumorInertia::navier_stokes && eye && s.solid.support.springs)
+    at("support.model", "key 'support.model': cavity.humor_inertia = \"navier_stokes\" "
+                        "needs the cut clamped (\"clamped\"): the humor's lid across the cut is "
+                        "then a wall at rest; the lid moving with the eye is the \"flow\" "
+                        "model's");
   if (s.solid.support.springs && !eye && s.mesh.boundary.fixed.empty())
     at("support.model", "key 'support.model': \"springs\" act on boundary.fixed, which names "
                         "no group");

@@ -88,15 +88,23 @@ struct CavitySettings
 {
   bool closed;
   /// The humors' mass in the dynamics: none (massless), their translation
-  /// (forms/humor_inertia.py) or their flow (forms/humor_flow.py).
+  /// (forms/humor_inertia.py), their flow (forms/humor_flow.py) or the
+  /// full Navier-Stokes equations (forms/air_ale.py).
   enum class HumorInertia
   {
     none,
     translation,
-    flow
+    flow,
+    navier_stokes
   };
   HumorInertia humor_inertia;
+  /// Is the humor meshed (its flow, or Navier-Stokes)?
+  bool meshed_humor() const
+  {
+    return humor_inertia == HumorInertia::flow || humor_inertia == HumorInertia::navier_stokes;
+  }
   double humor_density;  ///< [g/mm^3]
+  double humor_viscosity; ///< [MPa ms] (navier_stokes)
   /// A file mesh's humor: its volume groups (cavity.humor_inertia = "flow").
   std::vector<std::string> humor_groups;
   scene::Points origin; ///< a file mesh's volume origin [mm]

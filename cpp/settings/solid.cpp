@@ -161,18 +161,28 @@ void visit(scene::Visitor& v, SolidSettings& s)
             "as a pressure linear in position (forms/humor_inertia.py; its flow relative to the "
             "centroid is left out); flow = each closed cavity's humor is meshed and flows, "
             "inviscid and incompressible, as the wall drives it: a pressure field on the "
-            "humor's mesh (forms/humor_flow.py)"},
+            "humor's mesh (forms/humor_flow.py); navier_stokes = the humor meshed as the "
+            "air is, viscous incompressible Navier-Stokes in ALE form two-way coupled to the "
+            "wall (forms/air_ale.py, cpp/fsi): the full equations the flow model leaves out, "
+            "for checking it (a prescribed puff, the cut clamped)"},
            s.cavity.humor_inertia,
            {{"none", CavitySettings::HumorInertia::none},
             {"translation", CavitySettings::HumorInertia::translation},
-            {"flow", CavitySettings::HumorInertia::flow}});
+            {"flow", CavitySettings::HumorInertia::flow},
+            {"navier_stokes", CavitySettings::HumorInertia::navier_stokes}});
   v.real({"cavity.humor_density", "1.0e-3", "g/mm^3", 1e-6, 0.1,
           "density of the humors: water's, of which the aqueous and the vitreous are 98-99 %",
-          "cavity.humor_inertia=translation|flow"},
+          "cavity.humor_inertia=translation|flow|navier_stokes"},
          s.cavity.humor_density);
+  v.real({"cavity.humor_viscosity", "0.7e-6", "MPa ms", 1e-12, 1,
+          "dynamic viscosity of the humors as Navier-Stokes: the aqueous', 0.7 mPa s at 37 C "
+          "(about water's; the vitreous gel's shear modulus of a few Pa is left out)",
+          "cavity.humor_inertia=navier_stokes"},
+         s.cavity.humor_viscosity);
   v.strings({"cavity.humor_groups", "[]", "", -inf, inf,
              "file: the volume groups of the cavity's humor, meshed conforming to "
-             "boundary.cavity_wall: its mesh with cavity.humor_inertia = \"flow\", left out "
+             "boundary.cavity_wall: its mesh with cavity.humor_inertia = \"flow\" or "
+             "\"navier_stokes\", left out "
              "with the other models",
              "mesh.source=file"},
             s.cavity.humor_groups);
