@@ -148,10 +148,13 @@ void build(const Geometry& g, const Refinement& r);
 /// and nucleus, zonule, vitreous membrane: surfaces 4 to 7) from the axis
 /// to the shell's posterior node at the zonule ring, and "cavity_wall"
 /// split into "aqueous_wall" and "vitreous_wall" (curves 7, 8).
-/// With `humor` (one cavity) also the humor inside the inner face, down to
-/// the cut: surface "humor" (tag 20), conforming to "cavity_wall" node for
-/// node, its axis in "axis", its cut in "humor_lid" (curve 9); graded from
-/// the wall's spacing to Refinement::size_humor.
+/// With `humor` also the humor inside the inner face, down to the cut:
+/// surface "humor" (tag 20), conforming to "cavity_wall" node for node, its
+/// axis in "axis", its cut in "humor_lid" (curve 9); graded from the
+/// wall's spacing to Refinement::size_humor. With the internal structures
+/// two chambers: "aqueous_humor" (20) in front of the diaphragm, on
+/// "aqueous_wall", and "vitreous_humor" (21) behind it down to the cut, on
+/// "vitreous_wall"; apart (each its own node at the zonule ring).
 void build_section(const Geometry& g, const Refinement& r, bool humor = false);
 
 } // namespace nct::eye

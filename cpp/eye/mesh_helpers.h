@@ -30,8 +30,9 @@ enum class Group
 };
 constexpr int group_count = 9;
 constexpr int part_count = 7;
-/// The humor's surface (a section's, with its flow): its physical tag,
-/// apart from the parts' and the air's (cpp/air/domain.h: 8, 11 to 16).
+/// The humor's surface (a section's, meshed): its physical tag, apart
+/// from the parts' and the air's (cpp/air/domain.h: 8, 11 to 16); with
+/// the internal structures the aqueous' (and the vitreous' the next).
 constexpr int humor_tag = 20;
 /// Physical names of the parts, by Part - 1.
 inline const std::array<std::string, part_count> part_names{

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -48,7 +49,8 @@ struct SectionMesh
   std::vector<std::size_t> tags;
   std::vector<double> coords;
   std::array<std::vector<std::size_t>, part_count> triangles;
-  std::vector<std::size_t> humor; ///< the humor's triangles (with its flow)
+  /// The humor's triangles, per chamber (meshed humor).
+  std::vector<std::vector<std::size_t>> humor;
   std::array<std::vector<std::size_t>, group_count> segments;
 
   /// Adds the node `tag` at x, exactly on the axis (r = 0) if `on_axis`.
@@ -167,80 +169,122 @@ void add_diaphragm(SectionMesh& section, const Diaphragm& dia, const Refinement&
     section.add_segment(Group::symmetry_x, node(k, 0), node(k + 1, 0));
 }
 
-/// Adds the humor inside the shell's inner face (nodes (layers, j) of the
-/// chart's nc), down to the cut: triangles graded from the wall's spacing
-/// to `size` by gmsh (a model of its own, removed after), on the wall's
-/// own nodes; its axis into "axis", its cut into "humor_lid".
-void add_humor(SectionMesh& section, std::size_t nc, std::size_t layers, double size)
+/// A humor chamber's boundary: its wall's nodes (indices into the
+/// section's nodes) in order, from the axis round to the axis, or to the
+/// cut (`lid`: then the lid from the last one to the axis).
+struct Chamber
 {
-  const auto wall = [&](std::size_t j) { return layers * nc + j; }; // index into section's nodes
+  std::vector<std::size_t> wall;
+  bool lid;
+  Group wall_group; ///< its cavity's wall
+};
+
+/// Adds each chamber's humor: triangles graded from the wall's spacing to
+/// `size` by gmsh (a model of its own, removed after), on the wall's own
+/// nodes; its axis into "axis", its cut into "humor_lid". A wall node that
+/// an earlier chamber holds too (the zonule ring, where the aqueous and
+/// the vitreous meet) is a node of its own in each: the chambers' humors
+/// are apart (the wall's segments at such a node are added again, on the
+/// humor's own node, to the chamber's wall group).
+void add_humor(SectionMesh& section, const std::vector<Chamber>& chambers, double size)
+{
   const auto at = [&](std::size_t i)
   { return std::array<double, 3>{section.coords[3 * i], section.coords[3 * i + 1], 0.0}; };
-  gmsh::model::add("humor");
-  std::vector<int> points;
-  for (std::size_t j = 0; j < nc; ++j)
-  {
-    const auto x = at(wall(j));
-    const double before = j > 0 ? std::hypot(x[0] - at(wall(j - 1))[0], x[1] - at(wall(j - 1))[1]) : 0,
-                 after = j + 1 < nc ? std::hypot(x[0] - at(wall(j + 1))[0], x[1] - at(wall(j + 1))[1]) : 0;
-    points.push_back(gmsh::model::geo::addPoint(x[0], x[1], 0, std::max(before, after)));
-  }
-  const double y_cut = at(wall(nc - 1))[1];
-  const int centre = gmsh::model::geo::addPoint(0, y_cut, 0, size);
-  std::vector<int> loop, wall_lines;
-  for (std::size_t j = 0; j + 1 < nc; ++j)
-  {
-    wall_lines.push_back(gmsh::model::geo::addLine(points[j], points[j + 1]));
-    loop.push_back(wall_lines.back());
-  }
-  const int lid = gmsh::model::geo::addLine(points.back(), centre);
-  const int axis = gmsh::model::geo::addLine(centre, points.front());
-  loop.insert(loop.end(), {lid, axis});
-  gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(loop)});
-  for (int l : wall_lines)
-    gmsh::model::geo::mesh::setTransfiniteCurve(l, 2); // the wall's own nodes only
-  gmsh::model::geo::synchronize();
-  double size_max = 0; // the option is global: the air's meshing after must not see it
-  gmsh::option::getNumber("Mesh.MeshSizeMax", size_max);
-  gmsh::option::setNumber("Mesh.MeshSizeMax", size);
-  gmsh::model::mesh::generate(2);
-  gmsh::option::setNumber("Mesh.MeshSizeMax", size_max);
-
-  // Its nodes into the section's: the wall's by place, the rest new.
-  std::map<std::array<double, 2>, std::size_t> wall_tag;
-  for (std::size_t j = 0; j < nc; ++j)
-    wall_tag[{at(wall(j))[0], at(wall(j))[1]}] = section.tags[wall(j)];
   std::size_t next = *std::max_element(section.tags.begin(), section.tags.end()) + 1;
-  std::vector<std::size_t> node_tags;
-  std::vector<double> coords, parametric;
-  gmsh::model::mesh::getNodes(node_tags, coords, parametric);
-  std::map<std::size_t, std::size_t> tag_of;
-  for (std::size_t i = 0; i < node_tags.size(); ++i)
+  std::set<std::size_t> taken; // wall nodes of the chambers so far
+  for (const Chamber& chamber : chambers)
   {
-    const auto it = wall_tag.find({coords[3 * i], coords[3 * i + 1]});
-    if (it != wall_tag.end())
-      tag_of[node_tags[i]] = it->second;
+    const auto& wall = chamber.wall;
+    const std::size_t n = wall.size();
+    gmsh::model::add("humor");
+    std::vector<int> points;
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      const auto x = at(wall[j]);
+      auto gap = [&](std::size_t i) { return std::hypot(x[0] - at(i)[0], x[1] - at(i)[1]); };
+      points.push_back(gmsh::model::geo::addPoint(
+          x[0], x[1], 0, std::max(j > 0 ? gap(wall[j - 1]) : 0, j + 1 < n ? gap(wall[j + 1]) : 0)));
+    }
+    std::vector<int> loop, wall_lines;
+    for (std::size_t j = 0; j + 1 < n; ++j)
+    {
+      wall_lines.push_back(gmsh::model::geo::addLine(points[j], points[j + 1]));
+      loop.push_back(wall_lines.back());
+    }
+    int lid = -1, axis;
+    if (chamber.lid)
+    {
+      const int centre = gmsh::model::geo::addPoint(0, at(wall.back())[1], 0, size);
+      lid = gmsh::model::geo::addLine(points.back(), centre);
+      axis = gmsh::model::geo::addLine(centre, points.front());
+      loop.insert(loop.end(), {lid, axis});
+    }
     else
     {
-      const bool on_axis = std::abs(coords[3 * i]) < 1e-12;
-      section.add_node(next, {on_axis ? 0.0 : coords[3 * i], coords[3 * i + 1]}, on_axis);
-      tag_of[node_tags[i]] = next++;
+      axis = gmsh::model::geo::addLine(points.back(), points.front());
+      loop.push_back(axis);
     }
-  }
-  std::vector<int> types;
-  std::vector<std::vector<std::size_t>> elements, element_nodes;
-  gmsh::model::mesh::getElements(types, elements, element_nodes, 2);
-  for (std::size_t t = 0; t < types.size(); ++t)
-    for (auto n : element_nodes[t])
-      section.humor.push_back(tag_of.at(n));
-  for (auto [line, group] : {std::pair{lid, Group::humor_lid}, std::pair{axis, Group::symmetry_x}})
-  {
-    gmsh::model::mesh::getElements(types, elements, element_nodes, 1, line);
+    gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(loop)});
+    for (int l : wall_lines)
+      gmsh::model::geo::mesh::setTransfiniteCurve(l, 2); // the wall's own nodes only
+    gmsh::model::geo::synchronize();
+    double size_max = 0; // the option is global: the air's meshing after must not see it
+    gmsh::option::getNumber("Mesh.MeshSizeMax", size_max);
+    gmsh::option::setNumber("Mesh.MeshSizeMax", size);
+    gmsh::model::mesh::generate(2);
+    gmsh::option::setNumber("Mesh.MeshSizeMax", size_max);
+
+    // Its nodes into the section's: the wall's by place (unless an earlier
+    // chamber's), the rest new.
+    std::map<std::array<double, 2>, std::size_t> wall_tag;
+    for (auto i : wall)
+      wall_tag[{at(i)[0], at(i)[1]}] = section.tags[i];
+    std::vector<std::size_t> node_tags;
+    std::vector<double> coords, parametric;
+    gmsh::model::mesh::getNodes(node_tags, coords, parametric);
+    std::map<std::size_t, std::size_t> tag_of, own; // gmsh's -> the section's; wall: section's -> the humor's
+    for (std::size_t i = 0; i < node_tags.size(); ++i)
+    {
+      const auto it = wall_tag.find({coords[3 * i], coords[3 * i + 1]});
+      if (it != wall_tag.end() && !taken.count(it->second))
+        tag_of[node_tags[i]] = it->second;
+      else
+      {
+        const bool on_axis = std::abs(coords[3 * i]) < 1e-12;
+        section.add_node(next, {on_axis ? 0.0 : coords[3 * i], coords[3 * i + 1]}, on_axis);
+        tag_of[node_tags[i]] = next++;
+      }
+      if (it != wall_tag.end())
+        own[it->second] = tag_of[node_tags[i]];
+    }
+    for (std::size_t j = 0; j + 1 < n; ++j)
+    {
+      const std::size_t a = section.tags[wall[j]], b = section.tags[wall[j + 1]];
+      if (own.at(a) != a || own.at(b) != b)
+        section.add_segment(chamber.wall_group, own.at(a), own.at(b));
+    }
+    for (auto i : wall)
+      taken.insert(section.tags[i]);
+    std::vector<int> types;
+    std::vector<std::vector<std::size_t>> elements, element_nodes;
+    gmsh::model::mesh::getElements(types, elements, element_nodes, 2);
+    section.humor.emplace_back();
     for (std::size_t t = 0; t < types.size(); ++t)
-      for (std::size_t e = 0; e + 1 < element_nodes[t].size(); e += 2)
-        section.add_segment(group, tag_of.at(element_nodes[t][e]), tag_of.at(element_nodes[t][e + 1]));
+      for (auto node : element_nodes[t])
+        section.humor.back().push_back(tag_of.at(node));
+    std::vector<std::pair<int, Group>> lines{{axis, Group::symmetry_x}};
+    if (chamber.lid)
+      lines.push_back({lid, Group::humor_lid});
+    for (auto [line, group] : lines)
+    {
+      gmsh::model::mesh::getElements(types, elements, element_nodes, 1, line);
+      for (std::size_t t = 0; t < types.size(); ++t)
+        for (std::size_t e = 0; e + 1 < element_nodes[t].size(); e += 2)
+          section.add_segment(group, tag_of.at(element_nodes[t][e]),
+                              tag_of.at(element_nodes[t][e + 1]));
+    }
+    gmsh::model::remove();
   }
-  gmsh::model::remove();
 }
 
 /// Writes the eye's section into a new gmsh model "eye": the nodes, the
@@ -259,12 +303,16 @@ void write_section(const SectionMesh& section, bool internal_structures)
     gmsh::model::addPhysicalGroup(2, {p}, p);
     gmsh::model::setPhysicalName(2, p, part_names[p - 1]);
   }
-  if (!section.humor.empty())
+  const std::vector<const char*> humors
+      = section.humor.size() == 1 ? std::vector{"humor"}
+                                  : std::vector{"aqueous_humor", "vitreous_humor"};
+  for (std::size_t c = 0; c < section.humor.size(); ++c)
   {
-    gmsh::model::addDiscreteEntity(2, humor_tag);
-    add_elements(next, humor_tag, 2, section.humor, 3);
-    gmsh::model::addPhysicalGroup(2, {humor_tag}, humor_tag);
-    gmsh::model::setPhysicalName(2, humor_tag, "humor");
+    const int tag = humor_tag + static_cast<int>(c);
+    gmsh::model::addDiscreteEntity(2, tag);
+    add_elements(next, tag, 2, section.humor[c], 3);
+    gmsh::model::addPhysicalGroup(2, {tag}, tag);
+    gmsh::model::setPhysicalName(2, tag, humors[c]);
   }
   std::vector<std::pair<Group, const char*>> groups{
       {Group::anterior_cornea, "anterior_cornea"}, {Group::anterior_sclera, "anterior_sclera"},
@@ -301,11 +349,40 @@ void mesh_section(const Shape& shape, const Refinement& ref, bool humor)
   add_shell(section, shape, chart, layers, ring);
   if (dia.on)
     add_diaphragm(section, dia, ref, chart, layers, ring);
-  if (humor && dia.on)
-    throw std::invalid_argument("the humor's mesh has one cavity: not with the internal "
-                                "structures yet");
   if (humor)
-    add_humor(section, chart.size(), layers, ref.size_humor);
+  {
+    // The shell's inner face: node (layers, j); the diaphragm's faces:
+    // their nodes from the axis (index = tag - 1), the ring the shell's.
+    const std::size_t nc = chart.size();
+    const auto inner = [&](std::size_t j) { return layers * nc + j; };
+    std::vector<Chamber> chambers;
+    if (!dia.on)
+    {
+      chambers.push_back({{}, true, Group::cavity_wall});
+      for (std::size_t j = 0; j < nc; ++j)
+        chambers.back().wall.push_back(inner(j));
+    }
+    else
+    {
+      // The aqueous: the inner face to the ring, the diaphragm's anterior
+      // face back to the axis; the vitreous: its posterior face out to the
+      // ring, the inner face down to the cut.
+      const std::size_t nd = (section.tags.size() - (layers + 1) * nc) / (layers + 1) + 1,
+                        base = (layers + 1) * nc;
+      const auto face = [&](std::size_t k, std::size_t v) { return base + k * (nd - 1) + v; };
+      Chamber aqueous{{}, false, Group::aqueous_wall}, vitreous{{}, true, Group::vitreous_wall};
+      for (std::size_t j = 0; j <= ring; ++j)
+        aqueous.wall.push_back(inner(j));
+      for (std::size_t v = nd - 1; v-- > 0;)
+        aqueous.wall.push_back(face(0, v));
+      for (std::size_t v = 0; v + 1 < nd; ++v)
+        vitreous.wall.push_back(face(layers, v));
+      for (std::size_t j = ring; j < nc; ++j)
+        vitreous.wall.push_back(inner(j));
+      chambers = {aqueous, vitreous};
+    }
+    add_humor(section, chambers, ref.size_humor);
+  }
   write_section(section, dia.on);
 }
 

@@ -153,21 +153,31 @@ eye_meshes(MPI_Comm comm, const Input& in, bool solid, bool air)
   if (!air && !flow)
     return {eye_setup(meshio::distribute(comm, whole), g, in.built.eye, dimension),
             std::nullopt};
-  std::vector<std::int32_t> eye_tags;
-  const auto humor_group = whole.groups.volumes.find("humor");
-  const std::int32_t humor
-      = humor_group == whole.groups.volumes.end() ? -1 : humor_group->second;
-  for (auto& [name, tag] : whole.groups.volumes)
-    if (tag != static_cast<std::int32_t>(air::Group::volume) && tag != humor)
+  // The humor: one chamber, or the aqueous' and the vitreous' (the
+  // internal structures), each with its cavity's wall.
+  const auto& gs = whole.groups;
+  std::vector<std::int32_t> eye_tags, humors, walls;
+  for (auto [name, wall] : {std::pair{"humor", "cavity_wall"},
+                            std::pair{"aqueous_humor", "aqueous_wall"},
+                            std::pair{"vitreous_humor", "vitreous_wall"}})
+    if (gs.volumes.count(name))
+      humors.push_back(gs.volumes.at(name)), walls.push_back(group(gs, wall));
+  for (auto& [name, tag] : gs.volumes)
+    if (tag != static_cast<std::int32_t>(air::Group::volume)
+        && std::find(humors.begin(), humors.end(), tag) == humors.end())
       eye_tags.push_back(tag);
   MeshSetup m = eye_setup(meshio::distribute(comm, meshio::keep(whole, eye_tags)), g,
                           in.built.eye, dimension);
   if (flow)
   {
-    const auto& gs = whole.groups;
-    m.humor = meshio::distribute(comm, meshio::keep(whole, {humor}));
-    m.humor_boundaries = {{{humor}}, {{group(gs, "cavity_wall")}}, {group(gs, "axis")}, {}, {},
-                          {{group(gs, "humor_lid")}}};
+    m.humor = meshio::distribute(comm, meshio::keep(whole, humors));
+    m.humor_boundaries.axis = {group(gs, "axis")};
+    m.humor_boundaries.lid = {group(gs, "humor_lid")};
+    for (std::size_t c = 0; c < humors.size(); ++c)
+    {
+      m.humor_boundaries.volumes.push_back({humors[c]});
+      m.humor_boundaries.walls.push_back({walls[c]});
+    }
   }
   return {std::move(m), std::move(a)};
 }

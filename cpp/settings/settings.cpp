@@ -140,14 +140,11 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
     at("cavity.humor_inertia", "key 'cavity.humor_inertia': " + humor_name + " needs a cavity, "
                                "but boundary.cavity_wall names no group");
   const bool meshed = humor == HumorInertia::flow || humor == HumorInertia::navier_stokes;
-  if (meshed && eye
-      && (s.mesh.dimension != section::Dimension::axisymmetric
-          || s.mesh.geometry.internal_structures))
+  if (meshed && eye && s.mesh.dimension != section::Dimension::axisymmetric)
     at("cavity.humor_inertia", "key 'cavity.humor_inertia': " + humor_name + " needs the humor's mesh, "
                                "which the idealised eye builds on its axisymmetric section "
-                               "without internal structures only (mesh.dimension = "
-                               "\"axisymmetric\"), not yet in 3D or with the lens; or a file "
-                               "mesh with cavity.humor_groups, or \"translation\"");
+                               "only (mesh.dimension = \"axisymmetric\"), not yet in 3D; or a "
+                               "file mesh with cavity.humor_groups, or \"translation\"");
   if (meshed && !eye && s.solid.cavity.humor_groups.empty())
     at("cavity.humor_groups", "key 'cavity.humor_groups': cavity.humor_inertia = " + humor_name
                                   + " needs the humor's volume groups, but it names none");
