@@ -135,7 +135,12 @@ std::array<std::array<double, 3>, 2> fibres(const Geometry& g, Part part,
 /// for an impossible geometry or refinement (naming the scene key,
 /// geometry.* or mesh.*), std::runtime_error if gmsh fails or a
 /// tetrahedron comes out inverted.
-void build(const Geometry& g, const Refinement& r);
+/// With `humor` (without the internal structures) also the humor inside
+/// "cavity_wall" down to the cut: volume "humor" (tag 20), conforming to
+/// the wall node for node, its faces on the planes in symmetry_x /
+/// symmetry_z, on the cut in "humor_lid" (tag 9); graded from the wall's
+/// spacing to Refinement::size_humor.
+void build(const Geometry& g, const Refinement& r, bool humor = false);
 
 /// Build the eye's meridian section (r = x >= 0, y; an axisymmetric model
 /// of the whole eye) as the current gmsh model, meshed as the 3D eye's

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <numbers>
 #include <optional>
 #include <sstream>
@@ -245,6 +246,7 @@ struct QuarterMesh
   std::vector<int> owner; ///< lowest part using the node (part_count + 1: none)
   std::array<std::vector<std::size_t>, part_count> tets;
   std::array<std::vector<std::size_t>, group_count> faces;
+  std::vector<std::size_t> humor; ///< the humor's tets (meshed humor)
 };
 
 /// A layered body: a chart swept through `layers` layers (layer 0 the
@@ -481,6 +483,210 @@ void add_diaphragm(QuarterMesh& mesh, const Diaphragm& dia, const Chart& chart, 
                    }});
 }
 
+/// The inner face's boundary as polylines of node tags: along the plane
+/// z = 0 and the plane x = 0 from the apex (on both) to the cut, and the
+/// cut's arc from the plane z = 0 to x = 0. Edges used by one triangle
+/// only, classified by the exact zero of the chart's sides.
+std::array<std::vector<std::size_t>, 3> inner_face_boundary(const QuarterMesh& mesh,
+                                                           const std::vector<std::size_t>& wall)
+{
+  std::map<std::pair<std::size_t, std::size_t>, int> uses;
+  for (std::size_t t = 0; t < wall.size(); t += 3)
+    for (int j = 0; j < 3; ++j)
+    {
+      const std::size_t a = wall[t + j], b = wall[t + (j + 1) % 3];
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  const auto at = [&](std::size_t tag) -> const Vec3& { return mesh.x[tag - 1]; };
+  // 0: z = 0, 1: x = 0, 2: the cut.
+  std::array<std::multimap<std::size_t, std::size_t>, 3> next;
+  for (auto [edge, n] : uses)
+  {
+    if (n != 1)
+      continue;
+    const auto [a, b] = edge;
+    const int side = at(a)[2] == 0 && at(b)[2] == 0 ? 0 : at(a)[0] == 0 && at(b)[0] == 0 ? 1 : 2;
+    next[side].insert({a, b});
+    next[side].insert({b, a});
+  }
+  const auto chain = [&](int side, std::size_t start)
+  {
+    std::vector<std::size_t> line{start};
+    for (std::size_t previous = 0;;)
+    {
+      std::size_t step = 0;
+      auto [lo, hi] = next[side].equal_range(line.back());
+      for (auto it = lo; it != hi; ++it)
+        if (it->second != previous)
+          step = it->second;
+      if (step == 0)
+        return line;
+      previous = line.back();
+      line.push_back(step);
+    }
+  };
+  std::size_t apex = 0;
+  for (auto [a, b] : next[0])
+    if (at(a)[0] == 0)
+      apex = a;
+  std::array<std::vector<std::size_t>, 3> lines{chain(0, apex), chain(1, apex), {}};
+  lines[2] = chain(2, lines[0].back());
+  if (lines[2].back() != lines[1].back())
+    throw std::runtime_error("nct::eye::build: the inner face's boundary is not one loop");
+  return lines;
+}
+
+/// Adds the humor inside the shell's inner face ("cavity_wall"), down to
+/// the cut, bounded by the symmetry planes: its faces on the planes and on
+/// the cut (the lid) triangulated by gmsh on the wall's own boundary
+/// nodes (a model of its own), then its tetrahedra inside the closed
+/// surface of the wall's and those triangles (a second model), graded
+/// from the wall's spacing to `size`; both removed after. Its faces on the
+/// planes join "symmetry_z" and "symmetry_x", on the cut "humor_lid".
+void add_humor(QuarterMesh& mesh, double size)
+{
+  const auto& wall = mesh.faces[static_cast<int>(Group::cavity_wall) - 1];
+  const auto lines = inner_face_boundary(mesh, wall);
+  const auto at = [&](std::size_t tag) -> const Vec3& { return mesh.x[tag - 1]; };
+  const auto gap = [&](std::size_t a, std::size_t b)
+  { return std::hypot(at(a)[0] - at(b)[0], at(a)[1] - at(b)[1], at(a)[2] - at(b)[2]); };
+
+  // The planes' faces and the lid, on the boundary's nodes.
+  gmsh::model::add("humor_faces");
+  std::map<std::size_t, int> point;
+  for (const auto& line : lines)
+    for (std::size_t j = 0; j < line.size(); ++j)
+      if (!point.count(line[j]))
+      {
+        const double h = std::max(j > 0 ? gap(line[j], line[j - 1]) : 0.0,
+                                  j + 1 < line.size() ? gap(line[j], line[j + 1]) : 0.0);
+        point[line[j]] = gmsh::model::geo::addPoint(at(line[j])[0], at(line[j])[1],
+                                                    at(line[j])[2], h);
+      }
+  const double y_cut = at(lines[2].front())[1];
+  const int centre = gmsh::model::geo::addPoint(0, y_cut, 0, size);
+  std::array<std::vector<int>, 3> curves;
+  for (int l = 0; l < 3; ++l)
+    for (std::size_t j = 0; j + 1 < lines[l].size(); ++j)
+    {
+      curves[l].push_back(gmsh::model::geo::addLine(point[lines[l][j]], point[lines[l][j + 1]]));
+      gmsh::model::geo::mesh::setTransfiniteCurve(curves[l].back(), 2); // the wall's own nodes
+    }
+  const int axis = gmsh::model::geo::addLine(centre, point[lines[0].front()]);
+  const int radial_z = gmsh::model::geo::addLine(point[lines[0].back()], centre);
+  const int radial_x = gmsh::model::geo::addLine(point[lines[1].back()], centre);
+  auto surface = [](std::vector<int> loop) {
+    return gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(loop)});
+  };
+  std::vector<int> loop_z = curves[0], loop_x = curves[1], loop_lid = curves[2];
+  loop_z.insert(loop_z.end(), {radial_z, axis});
+  loop_x.insert(loop_x.end(), {radial_x, axis});
+  loop_lid.insert(loop_lid.end(), {radial_x, -radial_z});
+  const std::array<int, 3> faces{surface(loop_z), surface(loop_x), surface(loop_lid)};
+  gmsh::model::geo::synchronize();
+  OptionGuard sizes;
+  sizes.set("Mesh.MeshSizeMax", size); // global: restored for the air's meshing after
+  gmsh::model::mesh::generate(2);
+
+  // Every face's node by place: the wall's are the shell's, the rest new.
+  std::map<Vec3, std::size_t> tag_at;
+  for (auto tag : wall)
+    tag_at[at(tag)] = tag;
+  const auto tag_of = [&](const Vec3& x)
+  {
+    auto [it, fresh] = tag_at.insert({x, mesh.x.size() + 1});
+    if (fresh)
+    {
+      mesh.x.push_back(x);
+      mesh.owner.push_back(part_count + 1);
+    }
+    return it->second;
+  };
+  std::array<std::vector<std::size_t>, 3> face_triangles;
+  for (int f = 0; f < 3; ++f)
+  {
+    std::vector<std::size_t> node_tags;
+    std::vector<double> coords, parametric;
+    gmsh::model::mesh::getNodes(node_tags, coords, parametric, 2, faces[f], true, false);
+    std::map<std::size_t, std::size_t> tag;
+    for (std::size_t i = 0; i < node_tags.size(); ++i)
+    {
+      Vec3 x{coords[3 * i], coords[3 * i + 1], coords[3 * i + 2]};
+      if (f == 0)
+        x[2] = 0; // exactly on the plane
+      else if (f == 1)
+        x[0] = 0;
+      else
+        x[1] = y_cut;
+      tag[node_tags[i]] = tag_of(x);
+    }
+    std::vector<int> types;
+    std::vector<std::vector<std::size_t>> elements, element_nodes;
+    gmsh::model::mesh::getElements(types, elements, element_nodes, 2, faces[f]);
+    for (std::size_t t = 0; t < types.size(); ++t)
+      for (auto n : element_nodes[t])
+        face_triangles[f].push_back(tag.at(n));
+  }
+  gmsh::model::remove();
+
+  // The tetrahedra inside the closed surface.
+  gmsh::model::add("humor");
+  std::vector<std::size_t> surface_nodes, surface_triangles = wall;
+  for (const auto& t : face_triangles)
+    surface_triangles.insert(surface_triangles.end(), t.begin(), t.end());
+  surface_nodes = surface_triangles;
+  std::sort(surface_nodes.begin(), surface_nodes.end());
+  surface_nodes.erase(std::unique(surface_nodes.begin(), surface_nodes.end()), surface_nodes.end());
+  std::vector<double> coords;
+  for (auto tag : surface_nodes)
+    coords.insert(coords.end(), at(tag).begin(), at(tag).end());
+  gmsh::model::addDiscreteEntity(2, 1);
+  gmsh::model::mesh::addNodes(2, 1, surface_nodes, coords);
+  std::size_t next = 1;
+  add_elements(next, 1, 2, surface_triangles, 3);
+  gmsh::model::geo::addVolume({gmsh::model::geo::addSurfaceLoop({1})});
+  gmsh::model::geo::synchronize();
+  gmsh::model::mesh::generate(3);
+  std::vector<std::size_t> node_tags;
+  std::vector<double> xyz, parametric;
+  // gmsh renumbers the nodes: the surface's are found by place.
+  gmsh::model::mesh::getNodes(node_tags, xyz, parametric, -1, -1, false, false);
+  std::map<std::size_t, std::size_t> tag;
+  const std::size_t known = mesh.x.size();
+  std::size_t on_surface = 0;
+  for (std::size_t i = 0; i < node_tags.size(); ++i)
+  {
+    tag[node_tags[i]] = tag_of({xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
+    on_surface += tag[node_tags[i]] <= known;
+  }
+  if (on_surface != surface_nodes.size())
+    throw std::runtime_error("nct::eye::build: gmsh's humor does not keep its surface's nodes ("
+                             + std::to_string(on_surface) + " of "
+                             + std::to_string(surface_nodes.size()) + ")");
+  std::vector<int> types;
+  std::vector<std::vector<std::size_t>> elements, element_nodes;
+  gmsh::model::mesh::getElements(types, elements, element_nodes, 3);
+  for (std::size_t t = 0; t < types.size(); ++t)
+    for (std::size_t e = 0; e + 4 <= element_nodes[t].size(); e += 4)
+    {
+      Tet tet;
+      for (int j = 0; j < 4; ++j)
+        tet[j] = tag.at(element_nodes[t][e + j]);
+      if (signed_volume(at(tet[0]), at(tet[1]), at(tet[2]), at(tet[3])) < 0)
+        std::swap(tet[2], tet[3]);
+      mesh.humor.insert(mesh.humor.end(), tet.begin(), tet.end());
+    }
+  gmsh::model::remove();
+  if (mesh.humor.empty())
+    throw std::runtime_error("nct::eye::build: gmsh made no tetrahedra in the humor");
+  for (auto [f, group] : {std::pair{0, Group::symmetry_z}, std::pair{1, Group::symmetry_x},
+                          std::pair{2, Group::humor_lid}})
+  {
+    auto& list = mesh.faces[static_cast<int>(group) - 1];
+    list.insert(list.end(), face_triangles[f].begin(), face_triangles[f].end());
+  }
+}
+
 /// Writes the mesh into a new gmsh model "eye" as discrete entities with
 /// physical groups: each node on the volume of the lowest part using it,
 /// the tets by part, the boundary triangles by group (the groups of the
@@ -503,16 +709,35 @@ void write_quarter_eye(const QuarterMesh& mesh, bool internal_structures)
       }
     gmsh::model::mesh::addNodes(3, p, tags, coords);
   }
+  if (!mesh.humor.empty()) {
+    // The humor's own nodes: those no part uses.
+    gmsh::model::addDiscreteEntity(3, humor_tag);
+    std::vector<std::size_t> tags;
+    std::vector<double> coords;
+    for (std::size_t n = 0; n < mesh.x.size(); ++n)
+      if (mesh.owner[n] == part_count + 1) {
+        tags.push_back(n + 1);
+        coords.insert(coords.end(), mesh.x[n].begin(), mesh.x[n].end());
+      }
+    gmsh::model::mesh::addNodes(3, humor_tag, tags, coords);
+  }
   std::size_t next = 1;
   for (int p = 1; p <= parts; ++p) {
     add_elements(next, p, 4, mesh.tets[p - 1], 4);
     gmsh::model::addPhysicalGroup(3, {p}, p);
     gmsh::model::setPhysicalName(3, p, part_names[p - 1]);
   }
+  if (!mesh.humor.empty()) {
+    add_elements(next, humor_tag, 4, mesh.humor, 4);
+    gmsh::model::addPhysicalGroup(3, {humor_tag}, humor_tag);
+    gmsh::model::setPhysicalName(3, humor_tag, "humor");
+  }
   for (int s = 1; s <= group_count; ++s) {
-    const bool used = internal_structures ? s != static_cast<int>(Group::cavity_wall)
+    const bool used = s == static_cast<int>(Group::humor_lid)
+                          ? !mesh.humor.empty()
+                      : internal_structures ? s != static_cast<int>(Group::cavity_wall)
                                                 && s <= static_cast<int>(Group::vitreous_wall)
-                                          : s <= static_cast<int>(Group::fixed);
+                                            : s <= static_cast<int>(Group::fixed);
     if (!used)
       continue;
     gmsh::model::addDiscreteEntity(2, s);
@@ -524,7 +749,7 @@ void write_quarter_eye(const QuarterMesh& mesh, bool internal_structures)
 
 /// Meshes the shell and, with the internal structures, the diaphragm, and
 /// writes the quarter eye into a new gmsh model "eye" (build()).
-void mesh_quarter_eye(const Shape& shape, const Refinement& ref)
+void mesh_quarter_eye(const Shape& shape, const Refinement& ref, bool humor)
 {
   const std::size_t layers = static_cast<std::size_t>(ref.layers);
   const ChartSpec shell_spec = shell_chart_spec(shape, ref);
@@ -536,19 +761,24 @@ void mesh_quarter_eye(const Shape& shape, const Refinement& ref)
         = mesh_chart(diaphragm_chart_spec(shape.diaphragm, ref, shell_spec.ring_points));
     add_diaphragm(mesh, shape.diaphragm, chart, shell, layers);
   }
+  if (humor && shape.diaphragm.on)
+    throw std::invalid_argument("nct::eye::build: the 3D eye's humor is meshed without the "
+                                "internal structures only");
+  if (humor)
+    add_humor(mesh, ref.size_humor);
   write_quarter_eye(mesh, shape.diaphragm.on);
 }
 
 } // namespace
 
-void build(const Geometry& g, const Refinement& r)
+void build(const Geometry& g, const Refinement& r, bool humor)
 {
   check_refinement(g, r);
   const Shape shape = derive_shape(g);
   try {
     OptionGuard quiet;
     quiet.set("General.Terminal", 0);
-    mesh_quarter_eye(shape, r);
+    mesh_quarter_eye(shape, r, humor);
   } catch (const std::string& message) { // gmsh 4.8 throws its last error as a string
     throw std::runtime_error("nct::eye::build: gmsh failed: " + message);
   }

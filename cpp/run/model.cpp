@@ -130,7 +130,7 @@ eye_meshes(MPI_Comm comm, const Input& in, bool solid, bool air)
               if (with_eye && dimension == section::Dimension::axisymmetric)
                 eye::build_section(g, s.mesh.refinement, flow);
               else if (with_eye)
-                eye::build(g, s.mesh.refinement);
+                eye::build(g, s.mesh.refinement, flow);
               if (air)
                 (dimension == section::Dimension::axisymmetric ? air::build_section
                                                                : air::build)(
@@ -171,7 +171,11 @@ eye_meshes(MPI_Comm comm, const Input& in, bool solid, bool air)
   if (flow)
   {
     m.humor = meshio::distribute(comm, meshio::keep(whole, humors));
-    m.humor_boundaries.axis = {group(gs, "axis")};
+    // A section's axis; the 3D quarter's symmetry planes.
+    if (dimension == section::Dimension::axisymmetric)
+      m.humor_boundaries.axis = {group(gs, "axis")};
+    else
+      m.humor_boundaries.symmetry = {group(gs, "symmetry_x"), group(gs, "symmetry_z")};
     m.humor_boundaries.lid = {group(gs, "humor_lid")};
     for (std::size_t c = 0; c < humors.size(); ++c)
     {

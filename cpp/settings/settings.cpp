@@ -140,11 +140,19 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
     at("cavity.humor_inertia", "key 'cavity.humor_inertia': " + humor_name + " needs a cavity, "
                                "but boundary.cavity_wall names no group");
   const bool meshed = humor == HumorInertia::flow || humor == HumorInertia::navier_stokes;
-  if (meshed && eye && s.mesh.dimension != section::Dimension::axisymmetric)
+  if (meshed && eye && s.mesh.dimension == section::Dimension::plane)
     at("cavity.humor_inertia", "key 'cavity.humor_inertia': " + humor_name + " needs the humor's mesh, "
-                               "which the idealised eye builds on its axisymmetric section "
-                               "only (mesh.dimension = \"axisymmetric\"), not yet in 3D; or a "
-                               "file mesh with cavity.humor_groups, or \"translation\"");
+                               "which the idealised eye builds in 3D and on its axisymmetric "
+                               "section, not on a plane one; or \"translation\"");
+  if (meshed && eye && s.mesh.dimension == section::Dimension::three
+      && s.mesh.geometry.internal_structures)
+    at("cavity.humor_inertia", "key 'cavity.humor_inertia': " + humor_name + " in 3D meshes the "
+                               "humor without the internal structures only (with them: "
+                               "mesh.dimension = \"axisymmetric\", or \"translation\")");
+  if (humor == HumorInertia::navier_stokes && eye && s.mesh.dimension == section::Dimension::three)
+    at("cavity.humor_inertia", "key 'cavity.humor_inertia': \"navier_stokes\" is the flow "
+                               "model's check on the axisymmetric section (mesh.dimension = "
+                               "\"axisymmetric\")");
   if (meshed && !eye && s.solid.cavity.humor_groups.empty())
     at("cavity.humor_groups", "key 'cavity.humor_groups': cavity.humor_inertia = " + humor_name
                                   + " needs the humor's volume groups, but it names none");
