@@ -314,8 +314,8 @@ int run_cohort(const Fit& fit, const Options& o)
   {
     const Patient& p = cohort.patients[index[k]];
     ++finished;
-    std::cout << patient_line(p, fits.path(p.id), code)
-              << format("  [%d/%d, %.0f s]", finished, n, seconds()) << std::endl;
+    std::cout << patient_line(p, fits.path(p.id), code) << "  "
+              << jobs::progress(finished, n, finished - kept, seconds()) << std::endl;
   });
   if (!complete)
   {

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <spawn.h>
 #include <sstream>
@@ -183,6 +184,16 @@ std::string read_text(const fs::path& file)
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+std::string progress(std::size_t done, std::size_t total, std::size_t run_now, double elapsed)
+{
+  std::ostringstream line;
+  line << "[" << done << "/" << total << "]  " << std::fixed << std::setprecision(0) << elapsed
+       << " s elapsed";
+  if (run_now > 0 && done < total)
+    line << ", about " << elapsed / double(run_now) * double(total - done) << " s to go";
+  return line.str();
 }
 
 std::string tail(const std::string& text, std::size_t n)

@@ -82,4 +82,9 @@ std::string read_text(const std::filesystem::path& file);
 /// The last `n` lines of a text, for messages.
 std::string tail(const std::string& text, std::size_t n);
 
+/// A progress line's tail for work done in pieces: "[done/total]  t s
+/// elapsed, about T s to go", T at the pace of the `run_now` pieces this
+/// process finished in `elapsed` seconds (none kept from before).
+std::string progress(std::size_t done, std::size_t total, std::size_t run_now, double elapsed);
+
 } // namespace nct::jobs

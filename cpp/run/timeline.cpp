@@ -1,5 +1,7 @@
 #include "run/timeline.h"
 
+#include <algorithm>
+
 #include "io/format.h"
 #include "run/solid_block.h"
 
@@ -123,10 +125,22 @@ void RunState::record_step(nlohmann::json step, double time, const solver::Newto
   step["newton_residuals"] = report.residuals;
   auto& steps = summary["steps"];
   steps.push_back(step);
-  folder.log(format("step %3zu  %-7s t %+8.4f  newton %2d  |R| %.2e%s  wall %.2f s",
+  // The puff's share done, and the time left at the pace since its march began.
+  std::string share;
+  if (step["phase"] == "puff" && settings.puff.duration > 0)
+  {
+    const double f = std::clamp(time / settings.puff.duration, 0.0, 1.0);
+    if (_share_start < 0)
+      _share_start = std::max(0.0, f - step.value("dt_ms", 0.0) / settings.puff.duration);
+    const double spent = MPI_Wtime() - phase_start.wall;
+    share = format("  puff %3.0f %%", 100 * f);
+    if (f > _share_start && f < 1)
+      share += format(", about %.0f s left", spent * (1 - f) / (f - _share_start));
+  }
+  folder.log(format("step %3zu  %-7s t %+8.4f  newton %2d  |R| %.2e%s  wall %.2f s%s",
                     steps.size(), step["phase"].get<std::string>().c_str(), time,
                     report.iterations, report.residuals.back(), text.c_str(),
-                    MPI_Wtime() - _t_step));
+                    MPI_Wtime() - _t_step, share.c_str()));
   _t_step = MPI_Wtime();
 }
 
@@ -140,6 +154,7 @@ void RunState::start_phase(Phase& p, std::size_t index)
 {
   phase = &p;
   phase_index = index;
+  _share_start = -1;
   phase_start = {timings(), stepper.newton_iterations, stepper.cuts, summary["steps"].size(),
                  t_output(), MPI_Wtime()};
 }

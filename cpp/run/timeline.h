@@ -100,6 +100,9 @@ private:
   std::map<std::string, solver::Timings> _resumed_timings;
   double _last_checkpoint = 0; ///< MPI_Wtime() of the last write
   double _t_step;              ///< MPI_Wtime() at the last recorded step
+  /// The puff's share done when the running phase started its march (-1:
+  /// no puff step yet), for the time left.
+  double _share_start = -1;
   struct Solver
   {
     std::unique_ptr<dolfinx::la::petsc::Matrix> A;

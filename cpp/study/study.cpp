@@ -127,13 +127,11 @@ std::string progress_line(const Study& s, std::size_t c, const Result& r, std::s
                           std::size_t run_now, double elapsed)
 {
   const std::size_t n = s.cases.size();
-  std::string line = format("[%zu/%zu] %s %s (%s)", finished, n, s.case_name(c).c_str(),
-                            r.status.c_str(), s.describe(s.cases[c]).c_str());
+  std::string line = format("%s %s (%s)", s.case_name(c).c_str(), r.status.c_str(),
+                            s.describe(s.cases[c]).c_str());
   for (std::size_t j = 0; j < std::min<std::size_t>(s.responses.size(), 4); ++j)
     line += " " + s.responses[j] + "=" + format("%.4g", r.responses[j]);
-  line += format("  %.0f s elapsed, about %.0f s to go", elapsed,
-                 elapsed / run_now * (n - finished));
-  return line;
+  return line + "  " + jobs::progress(finished, n, run_now, elapsed);
 }
 
 /// Run the cases `todo` (an interrupted one afresh; one still running on
