@@ -78,26 +78,19 @@ void SolidBlock::describe(nlohmann::json& summary, io::RunFolder& folder) const
                         ? "triangles (plane strain)"
                         : "triangles (an axisymmetric section: whole-body results)",
                     settings.solid.element.degree, (long long)problem.dofs()));
-  if (flow)
+  if (mesh.humor)
   {
     const auto& t = mesh.humor->mesh->topology();
     const std::int64_t humor_cells = t.index_map(t.dim())->size_global();
+    const std::int64_t dofs = flow ? flow->dofs() : navier_stokes->dofs();
     summary["humor_cells"] = humor_cells;
-    summary["humor_dofs"] = flow->dofs();
-    folder.log(format("humor: %lld cells, %lld pressure unknowns, %zu wall nodes "
-                      "(cavity.humor_inertia = \"flow\")",
-                      (long long)humor_cells, (long long)flow->dofs(), flow->wall_nodes()));
-  }
-  if (navier_stokes)
-  {
-    const auto& t = mesh.humor->mesh->topology();
-    const std::int64_t humor_cells = t.index_map(t.dim())->size_global();
-    summary["humor_cells"] = humor_cells;
-    summary["humor_dofs"] = navier_stokes->dofs();
-    folder.log(format("humor: %lld cells, %lld velocity and pressure unknowns, %zu wall nodes "
-                      "(cavity.humor_inertia = \"navier_stokes\")",
-                      (long long)humor_cells, (long long)navier_stokes->dofs(),
-                      navier_stokes->wall_nodes()));
+    summary["humor_dofs"] = dofs;
+    folder.log(format("humor: %lld cells, %lld %s unknowns, %zu wall nodes "
+                      "(cavity.humor_inertia = \"%s\")",
+                      (long long)humor_cells, (long long)dofs,
+                      flow ? "pressure" : "velocity and pressure",
+                      flow ? flow->wall_nodes() : navier_stokes->wall_nodes(),
+                      flow ? "flow" : "navier_stokes"));
   }
   if (!mesh.probe_names.empty())
     folder.log("step lines: '" + mesh.probe_names[0]
