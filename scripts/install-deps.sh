@@ -29,6 +29,9 @@ packages=(
   python3-scipy python3-lxml
   # emulators: Gaussian processes (scikit-learn's GaussianProcessRegressor)
   python3-sklearn
+  # the report pages' browser test: headless Chromium driven by Selenium
+  # (tests/report_pages.py)
+  chromium chromium-driver python3-selenium
 )
 
 missing=()

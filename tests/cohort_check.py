@@ -16,8 +16,8 @@ cohort_check.py NCT OUT
 - run again, nothing is fitted again and cohort.csv is unchanged; a
   patient whose row changed (its age) is fitted again from its finished
   forward runs (no new run), the others kept;
-- scripts/plot-cohort.py draws the recovery and the stiffness against IOP
-  and age.
+- its page (report.html, written at the end) draws the recovery and the
+  stiffness against IOP and age; the patients' fits write none.
 """
 import json
 import os
@@ -29,7 +29,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "python"))
-from nct import readings  # noqa: E402
+from nct import cohort, readings  # noqa: E402
 from nct.folders import read_json  # noqa: E402
 from nct.tables import read_csv  # noqa: E402
 
@@ -121,10 +121,11 @@ assert "(2 fitted before)" in text and "patient P02" in text and len(runs()) == 
 fit = read_json(folder / "patients" / "P02" / "fit.json")
 assert fit["forward_runs_reused"] == fit["forward_runs"], fit["forward_runs"]
 
-p = subprocess.run(["/usr/bin/python3", root / "scripts" / "plot-cohort.py", folder],
-                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, check=True)
-print(p.stdout)
-for name in ("cohort-iop.png", "cohort-age.png", "cohort-recovery.png"):
-    assert (folder / name).stat().st_size > 0, name
-assert "truths inside their 95 % intervals" in p.stdout
+# The cohort's page, written at its end (tests/report_pages.py opens it in
+# a browser); the patients' pages only on request.
+page = (folder / "report.html").read_text()
+for name in ("cohort-iop", "cohort-age", "cohort-recovery"):
+    assert f'data-name="{name}"' in page, name
+assert not list(folder.glob("patients/*/report.html"))
+assert "truths inside their 95 % intervals" in cohort.recovery(folder)[0]
 print("cohort: OK")

@@ -1,4 +1,4 @@
-// nct: the command-line front end (check, run, study, fit, describe).
+// nct: the command-line front end (check, run, study, fit, report, describe).
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <iostream>
@@ -7,6 +7,7 @@
 #include "biomarkers/registry.h"
 #include "fit/fit.h"
 #include "io/checkpoint.h"
+#include "report/report.h"
 #include "run/run.h"
 #include "scene/scene.h"
 #include "study/study.h"
@@ -53,6 +54,7 @@ struct SceneArgs
 {
   std::string scene_file, out, resume, petsc;
   std::vector<std::string> sets;
+  bool no_report = false;
 };
 
 /// The command line of `nct study` and `nct fit`.
@@ -60,8 +62,21 @@ struct DriverArgs
 {
   std::string file, out, launcher, patient;
   int jobs = 0;
-  bool dry_run = false;
+  bool dry_run = false, no_report = false;
 };
+
+/// The command line of `nct report`.
+struct ReportArgs
+{
+  std::string folder, out;
+};
+
+/// The option that turns a run's, study's or fit's page off.
+void add_no_report(CLI::App* verb, bool& flag)
+{
+  verb->add_flag("--no-report", flag,
+                 "write no report.html at the end (nct report DIR writes it later)");
+}
 
 /// The command line of `nct describe`.
 struct DescribeArgs
@@ -88,6 +103,7 @@ CLI::App* add_run(CLI::App& app, SceneArgs& a)
                   "(checkpoint.steps; the same scene, --set and --petsc, any rank count)")
       ->excludes(out_option);
   run->add_option("--petsc", a.petsc, "PETSc options, e.g. \"-ksp_type cg -pc_type gamg\"");
+  add_no_report(run, a.no_report);
   return run;
 }
 
@@ -102,6 +118,7 @@ CLI::App* add_study(CLI::App& app, DriverArgs& a)
   study->add_flag("--dry-run", a.dry_run, "check every case and list them; run none");
   study->add_option("--launcher", a.launcher, "where the cases run (default: the study's)")
       ->check(CLI::IsMember({"local", "slurm"}));
+  add_no_report(study, a.no_report);
   return study;
 }
 
@@ -118,7 +135,17 @@ CLI::App* add_fit(CLI::App& app, DriverArgs& a)
       ->check(CLI::IsMember({"local", "slurm"}));
   fit->add_option("--patient", a.patient, "a cohort's fit file: fit this patient (a row of "
                                           "its table) only");
+  add_no_report(fit, a.no_report);
   return fit;
+}
+
+CLI::App* add_report(CLI::App& app, ReportArgs& a)
+{
+  auto* report = app.add_subcommand("report", "write the web page of a run, study, fit or "
+                                              "cohort folder: DIR/report.html, self-contained");
+  report->add_option("folder", a.folder, "a folder nct run, study or fit wrote")->required();
+  report->add_option("--out", a.out, "the page (default: DIR/report.html)");
+  return report;
 }
 
 CLI::App* add_describe(CLI::App& app, DescribeArgs& a)
@@ -131,8 +158,10 @@ CLI::App* add_describe(CLI::App& app, DescribeArgs& a)
   return describe;
 }
 
-/// nct study: the study file's cases run (or resumed) into its folder.
-int run_study(const DriverArgs& a, const std::filesystem::path& program)
+/// nct study: the study file's cases run (or resumed) into its folder
+/// (`out`).
+int run_study(const DriverArgs& a, const std::filesystem::path& program,
+              std::filesystem::path& out)
 {
   auto s = nct::study::Study::load(a.file);
   nct::study::Options options;
@@ -143,12 +172,13 @@ int run_study(const DriverArgs& a, const std::filesystem::path& program)
   options.jobs = a.jobs;
   options.dry_run = a.dry_run;
   options.launcher = a.launcher;
+  out = options.out;
   return nct::study::run(s, options);
 }
 
 /// nct fit: the fit (or a cohort's fits, or one patient's) run or resumed
-/// into its folder.
-int run_fit(const DriverArgs& a, const std::filesystem::path& program)
+/// into its folder (`out`).
+int run_fit(const DriverArgs& a, const std::filesystem::path& program, std::filesystem::path& out)
 {
   auto f = nct::fit::Fit::load(a.file, a.patient);
   nct::fit::Options options;
@@ -159,11 +189,13 @@ int run_fit(const DriverArgs& a, const std::filesystem::path& program)
   options.jobs = a.jobs;
   options.dry_run = a.dry_run;
   options.launcher = a.launcher;
+  out = options.out;
   return f.cohort ? nct::fit::run_cohort(f, options) : nct::fit::run(f, options);
 }
 
 /// A study or a fit: a driver that starts each run as an MPI job of its
-/// own, no MPI process itself. Its exit code (bad input: 2).
+/// own, no MPI process itself; its page at the end (a finished or failed
+/// study or fit). Its exit code (bad input: 2).
 int drive(const std::string& verb, const DriverArgs& a)
 {
   if (const char* size = std::getenv("OMPI_COMM_WORLD_SIZE"); size && std::atoi(size) > 1)
@@ -175,7 +207,11 @@ int drive(const std::string& verb, const DriverArgs& a)
   try
   {
     const auto program = std::filesystem::read_symlink("/proc/self/exe");
-    return verb == "fit" ? run_fit(a, program) : run_study(a, program);
+    std::filesystem::path out;
+    const int code = verb == "fit" ? run_fit(a, program, out) : run_study(a, program, out);
+    if ((code == 0 || code == 3) && !a.dry_run && !a.no_report)
+      nct::report::after(out);
+    return code;
   }
   catch (const nct::scene::Error& e)
   {
@@ -189,12 +225,12 @@ int drive(const std::string& verb, const DriverArgs& a)
   }
 }
 
-/// nct check or nct run (`run`) of a scene, on the ranks of this MPI job.
-/// Its exit code: 2 for bad input, 3 when the run diverged.
-int run_scene(char* argv0, SceneArgs& a, bool run)
+/// nct check or nct run (`run`) of a scene, on the ranks of this MPI job,
+/// into `out`; `rank` this process' rank. Its exit code: 2 for bad input,
+/// 3 when the run diverged.
+int run_scene(char* argv0, SceneArgs& a, bool run, std::filesystem::path& out, int& rank)
 {
   nct::Runtime runtime(argv0);
-  int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   try
   {
@@ -214,6 +250,7 @@ int run_scene(char* argv0, SceneArgs& a, bool run)
     options.petsc = parse_petsc(a.petsc);
     if (!a.resume.empty())
       options.out = a.resume, options.resume = true;
+    out = options.out;
     nct::run(MPI_COMM_WORLD, input, options);
     return 0;
   }
@@ -251,10 +288,12 @@ int main(int argc, char* argv[])
   SceneArgs scene;
   DriverArgs driver;
   DescribeArgs listing;
+  ReportArgs pages;
   add_check(app, scene);
   auto* run = add_run(app, scene);
   auto* study = add_study(app, driver);
   auto* fit = add_fit(app, driver);
+  auto* report = add_report(app, pages);
   auto* describe = add_describe(app, listing);
   try
   {
@@ -275,7 +314,15 @@ int main(int argc, char* argv[])
                                      : nct::scene::describe(listing.markdown));
     return 0;
   }
+  if (report->parsed())
+    return nct::report::write(pages.folder, pages.out);
   if (study->parsed() || fit->parsed())
     return drive(study->parsed() ? "study" : "fit", driver);
-  return run_scene(argv[0], scene, run->parsed());
+  std::filesystem::path out;
+  int rank = 0;
+  const int code = run_scene(argv[0], scene, run->parsed(), out, rank);
+  // The page once MPI is done: a finished run's, or what a diverged one wrote.
+  if (run->parsed() && (code == 0 || code == 3) && rank == 0 && !scene.no_report)
+    nct::report::after(out);
+  return code;
 }

@@ -195,9 +195,10 @@ std::vector<std::size_t> patients_to_fit(const Fit& fit, const Options& o,
     if (fits.reusable(p.id, row))
       continue;
     const fs::path dir = fits.path(p.id);
+    // The cohort's page covers its patients: theirs only on request.
     std::vector<std::string> argv = {o.program.string(), "fit", fs::absolute(fit.file).string(),
                                      "--patient", p.id, "--out", fs::absolute(dir).string(),
-                                     "--jobs", std::to_string(per_patient)};
+                                     "--jobs", std::to_string(per_patient), "--no-report"};
     if (!o.launcher.empty())
       argv.insert(argv.end(), {"--launcher", o.launcher});
     todo.push_back({argv, fs::absolute(dir / "fit.log"), 1, "", nullptr});
@@ -268,7 +269,6 @@ int report_cohort(const Fit& fit, const Options& o, const jobs::RunCache& fits,
   if (with_truth)
     std::cout << "; " << inside << " of " << with_truth << " truths inside their 95 % intervals";
   std::cout << format("; %.0f s", wall) << "\ncohort.csv, cohort.json in " << o.out.string()
-            << "; plots: /usr/bin/python3 scripts/plot-cohort.py " << o.out.string()
             << std::endl;
   return converged == n ? 0 : 3;
 }

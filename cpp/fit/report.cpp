@@ -200,8 +200,7 @@ void print_answer(const nlohmann::json& out, const fs::path& folder)
                         bound(p["ci95"][1]).c_str());
   for (auto& w : out["warnings"])
     std::cout << "  warning: " << w.get<std::string>() << "\n";
-  std::cout << "fit.json, iterations.csv, observations.csv in " << folder.string()
-            << "; plots: /usr/bin/python3 scripts/plot-fit.py " << folder.string() << std::endl;
+  std::cout << "fit.json, iterations.csv, observations.csv in " << folder.string() << std::endl;
 }
 
 /// fit.json's object: the fit, its outcome, the parameters, their

@@ -170,11 +170,8 @@ std::vector<std::string> nct_command(const fs::path& program, const std::string&
     argv.push_back("--set");
     argv.push_back(set);
   }
-  if (verb == "run")
-  {
-    argv.push_back("--out");
-    argv.push_back(out.string());
-  }
+  if (verb == "run") // a case or a forward run: the study's or fit's page covers it
+    argv.insert(argv.end(), {"--out", out.string(), "--no-report"});
   return argv;
 }
 

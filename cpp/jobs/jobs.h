@@ -70,7 +70,7 @@ bool run(const Launcher& launcher, const std::vector<Job>& jobs, int at_once,
          const std::function<void(std::size_t, int)>& done);
 
 /// The command line of an nct verb on a scene with overrides:
-/// program verb scene --set ... [--out out] (`out` with `run` only).
+/// program verb scene --set ... [--out out --no-report] (`run` only).
 std::vector<std::string> nct_command(const std::filesystem::path& program, const std::string& verb,
                                      const std::filesystem::path& scene,
                                      const std::vector<std::string>& sets,

@@ -480,8 +480,7 @@ int report_outcome(const Study& s, const std::vector<Result>& results, const fs:
   }
   std::cout << "\nstudy: " << converged << " of " << s.cases.size()
             << " cases converged; tables in " << out.string() << " (" << tables
-            << "analysis.json); plots: /usr/bin/python3 scripts/plot-study.py " << out.string()
-            << std::endl;
+            << "analysis.json)" << std::endl;
   return converged == s.cases.size() ? 0 : 3;
 }
 

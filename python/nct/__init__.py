@@ -8,12 +8,15 @@ Modules:
   frames.csv, profiles.csv as per-frame, per-surface curves, steps.csv,
   forces.csv, scene.toml), Study, Fit, Cohort;
 - markdown: tables as Markdown or aligned text;
-- clinic: the clinical norms of normal eyes and a run's z-scores;
+- clinic: the clinical norms of normal eyes, a run's z-scores, the CBI;
 - timing: where a run's wall time went, per phase;
-- puff: a puff run's plots; the air's pressure on the cornea of any run;
-- study: a study's plots and its report;
-- fit: a fit's plots;
-- cohort: a cohort's plots and its recovery table;
+- figures: matplotlib figures as PNG files or inline SVG;
+- puff: a puff run's figures; the air's pressure on the cornea of any run;
+- study: a study's figures and its Markdown report;
+- fit: a fit's figures;
+- cohort: a cohort's figures and its recovery table;
+- posterior: a sampled posterior's pair figure and intervals;
+- report: the web pages (`nct report DIR`: DIR/report.html);
 - readings: synthetic Corvis readings from a run, a synthetic cohort;
 - cases: what the cases' runs share (paths, command line, running nct,
   results.md).

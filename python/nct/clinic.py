@@ -9,6 +9,7 @@ upper bound).
 
     rows = z_scores(summary)      # (name, value, unit, (mean, SD) or None, z or None)
     print(markdown(summary))
+    value, inputs = cbi(summary)  # the Corvis Biomechanical Index, or None and why
 
 Units are the biomarker registry's (nct.biomarkers).
 """
@@ -78,3 +79,43 @@ def markdown(summary):
         else:
             lines.append(f"| {name} | {value:.4g}{u} | no verified norm | |")
     return "\n".join(lines)
+
+
+# The Corvis Biomechanical Index (Vinciguerra et al. 2016, J Refract Surg
+# 32(12):803-810; coefficients as reprinted in Sci Rep 11:3018 (2021),
+# doi:10.1038/s41598-020-80915-9, Table 4): CBI = e^b / (1 + e^b),
+# b = B7 + sum of B_i x_i. (input, coefficient B_i, unit, summary key or
+# None when a run cannot give it, why not).
+CBI_INTERCEPT = 46.576
+CBI_INPUTS = [
+    ("A1 velocity (+ inwards)", -59.487, "m/s", "a1_velocity_m_s", None),
+    ("ARTh", -0.027, "um", None,
+     "Ambrosio's relational thickness (horizontal): the thinnest pachymetry over its "
+     "progression, from the device's thickness profile; not a simulated reading"),
+    ("SP-A1", -0.092, "mmHg/mm", "sp_a1_mmHg_per_mm", None),
+    ("DA ratio 1 mm", -27.169, "", "da_ratio_1mm", None),
+    ("DA ratio 2 mm", 5.472, "", "da_ratio_2mm", None),
+    ("SD of the deflection amplitude", -0.599, "", None,
+     "the device's statistic over its deflection-amplitude curve, whose definition is not "
+     "published with the coefficients; not computed"),
+]
+# The clinic signs velocities + inwards; a run + outwards.
+_CBI_SCALE = {"a1_velocity_m_s": -1}
+
+
+def cbi(summary, measured=None):
+    """The CBI where every input exists: (value or None, [(input, value or
+    None, unit, where it came from or why it is missing)]). `measured`
+    gives inputs a run cannot ({"ARTh": 520.0, ...}), e.g. the patient's."""
+    measured = measured or {}
+    inputs, b = [], CBI_INTERCEPT
+    for name, coefficient, unit, key, missing in CBI_INPUTS:
+        if name in measured:
+            value, source = float(measured[name]), "measured"
+        elif key is not None and key in summary:
+            value, source = _CBI_SCALE.get(key, 1) * summary[key], f"run ({key})"
+        else:
+            value, source = None, missing or f"the run has no {key}"
+        inputs.append((name, value, unit, source))
+        b = None if value is None or b is None else b + coefficient * value
+    return (None if b is None else 1.0 / (1.0 + math.exp(-b))), inputs

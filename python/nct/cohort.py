@@ -1,7 +1,8 @@
 """Plots and the recovery table of an nct cohort (a fit file with a
 [cohort] table, fitted with nct fit).
 
-    plot(folder, out)     # the PNGs into out (default: the cohort's folder)
+    figures(folder)       # [(name, matplotlib figure)], as the report shows them
+    plot(folder, out)     # the same as PNGs into out (default: the cohort's folder)
     recovery(folder)      # per parameter with truths, the Markdown recovery table
 
 - cohort-iop.png: each patient's first parameter (the stiffness) with its
@@ -20,6 +21,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from .figures import save_png  # noqa: E402
 from .folders import Cohort  # noqa: E402
 
 
@@ -42,23 +44,27 @@ def fitted(folder):
     return [r for r in rows if r["patient"] not in failed], failed
 
 
-def plot(folder, out=None):
-    """The cohort's figures; returns the paths written."""
+def figures(folder):
+    """The cohort's figures as [(name, matplotlib figure)]: cohort-iop,
+    cohort-age, cohort-recovery, each where its columns exist; none
+    without a fitted patient."""
     folder = pathlib.Path(folder)
-    out = pathlib.Path(out or folder)
-    out.mkdir(parents=True, exist_ok=True)
     rows, _ = fitted(folder)
+    if not rows:
+        return []
     params = labels(list(rows[0]))
     stiff = params[0]
-    written = []
+    made = []
 
     def bars(label):
         """The 95 % interval of a fitted label as error bars about its values."""
         v = [_number(r[label]) for r in rows]
-        lo = [vi - _number(r[label + "_lo"]) if _number(r[label + "_lo"]) is not None else 0
-              for vi, r in zip(v, rows)]
-        hi = [_number(r[label + "_hi"]) - vi if _number(r[label + "_hi"]) is not None else 0
-              for vi, r in zip(v, rows)]
+        # A sampled posterior's interval need not hold the fitted value: then
+        # the bar stops at the value on that side.
+        lo = [max(0.0, vi - _number(r[label + "_lo"])) if _number(r[label + "_lo"]) is not None
+              else 0 for vi, r in zip(v, rows)]
+        hi = [max(0.0, _number(r[label + "_hi"]) - vi) if _number(r[label + "_hi"]) is not None
+              else 0 for vi, r in zip(v, rows)]
         return [lo, hi]
 
     def errorbar(ax, x, label, xlabel=None):
@@ -71,11 +77,11 @@ def plot(folder, out=None):
 
     against = []
     if "iop" in params:
-        against.append(("iop", "IOP, fitted [mmHg]", "cohort-iop.png"))
+        against.append(("iop", "IOP, fitted [mmHg]", "cohort-iop"))
     elif "inflate.iop" in rows[0]:
-        against.append(("inflate.iop", "IOP, measured [mmHg]", "cohort-iop.png"))
+        against.append(("inflate.iop", "IOP, measured [mmHg]", "cohort-iop"))
     if "age" in rows[0]:
-        against.append(("age", "age [years]", "cohort-age.png"))
+        against.append(("age", "age [years]", "cohort-age"))
     for column, xlabel, name in against:
         fig, ax = plt.subplots(figsize=(6, 4.5))
         errorbar(ax, [_number(r[column]) for r in rows], stiff, column)
@@ -84,9 +90,7 @@ def plot(folder, out=None):
         ax.set_title("%s: %d patients" % (folder.name, len(rows)))
         ax.grid(alpha=0.3)
         fig.tight_layout()
-        fig.savefig(out / name, dpi=120)
-        plt.close(fig)
-        written.append(out / name)
+        made.append((name, fig))
 
     truths = [p for p in params if "truth_" + p in rows[0]]
     if truths:
@@ -102,10 +106,13 @@ def plot(folder, out=None):
             ax.legend()
             ax.grid(alpha=0.3)
         fig.tight_layout()
-        fig.savefig(out / "cohort-recovery.png", dpi=120)
-        plt.close(fig)
-        written.append(out / "cohort-recovery.png")
-    return written
+        made.append(("cohort-recovery", fig))
+    return made
+
+
+def plot(folder, out=None):
+    """The cohort's figures as PNGs into out (default: the folder); returns the paths."""
+    return save_png(figures(folder), pathlib.Path(out or folder))
 
 
 def recovery(folder):

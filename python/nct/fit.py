@@ -1,7 +1,8 @@
 """Plots of an nct fit: the readings against the start and the fit, the
 convergence, the correlations.
 
-    plot(folder, out)     # the PNGs into out (default: the fit's folder)
+    figures(folder)       # [(name, matplotlib figure)], as the report shows them
+    plot(folder, out)     # the same as PNGs into out (default: the fit's folder)
 
 - fit-curves.png: per curve observation, the measured points with their
   SDs, the best run's whole curve (the fit) and run-0001's (the start,
@@ -10,6 +11,8 @@ convergence, the correlations.
   with their SDs, the model's values at them (crosses) and the best run's
   profile at the nearest frame (a line; with reference "rest", the default,
   the displacement from frame 0 at the same x), one colour per time;
+- fit-residuals.png: per observation, the residuals in SDs against time,
+  x or reading, the +-1 and +-2 SD bands shaded;
 - fit-convergence.png: the cost and each parameter per iteration, refused
   steps hollow, the parameters' 95 % intervals shaded;
 - fit-correlation.png: the parameters' correlation matrix.
@@ -24,14 +27,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .figures import save_png  # noqa: E402
 from .folders import Fit  # noqa: E402
-
-
-def _save(fig, path):
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    print("wrote", path)
 
 
 def _start_run(fit):
@@ -47,7 +44,7 @@ def _start_run(fit):
     return run
 
 
-def _curves(result, obs, best, start, out):
+def _curves(result, obs, best, start):
     todo = [o for o in result["observations"] if o["kind"] == "curve"]
     if not todo:
         return print("no curve observation: no fit-curves.png")
@@ -64,10 +61,11 @@ def _curves(result, obs, best, start, out):
         ax.set(xlabel="t [ms]", ylabel=o["quantity"],
                title="%s: weighted RMS residual %.3g" % (o["label"], o["rms_weighted_residual"]))
         ax.legend()
-    _save(fig, out / "fit-curves.png")
+    fig.tight_layout()
+    return fig
 
 
-def _profiles(result, obs, best, out):
+def _profiles(result, obs, best):
     todo = [o for o in result["observations"] if o["kind"] == "profile"]
     if not todo:
         return print("no profile observation: no fit-profiles.png")
@@ -95,10 +93,11 @@ def _profiles(result, obs, best, out):
                title="%s: weighted RMS residual %.3g\n(points measured, x the model, lines "
                "the fit's nearest frame)" % (o["label"], o["rms_weighted_residual"]))
         ax.legend(fontsize=8)
-    _save(fig, out / "fit-profiles.png")
+    fig.tight_layout()
+    return fig
 
 
-def _convergence(fit, out):
+def _convergence(fit):
     rows = fit.iterations if fit.has("iterations.csv") else None
     if rows is None or not len(rows):
         return print("no iterations.csv (or no rows in it): no fit-convergence.png")
@@ -136,10 +135,11 @@ def _convergence(fit, out):
     fig.suptitle("%s after %s iterations, %s forward runs; chi2 %.4g for %s dof" % (
         result.get("status"), result.get("iterations", len(rows) - 1), result.get("forward_runs"),
         result.get("chi2", np.nan), result.get("dof")))
-    _save(fig, out / "fit-convergence.png")
+    fig.tight_layout()
+    return fig
 
 
-def _correlation(result, out):
+def _correlation(result):
     labels = [p["label"] for p in result["parameters"]]
     c = np.array([[np.nan if v is None else v for v in row]
                   for row in result.get("correlation") or []], dtype=float).reshape(-1, len(labels))
@@ -159,30 +159,74 @@ def _correlation(result, out):
         ax.set_yticks(range(n), labels)
         fig.colorbar(im, ax=ax, shrink=0.8)
     ax.set_title("correlation of the fitted parameters")
-    _save(fig, out / "fit-correlation.png")
+    fig.tight_layout()
+    return fig
 
 
-def plot(folder, out=None):
-    """The four figures of a fit folder into out (default: the folder)."""
+def _residuals(obs):
+    """Each observation's residuals in SDs ((measured - model) / SD, as
+    observations.csv gives them) against time, x or index, with the
+    +-1 and +-2 SD bands."""
+    if not obs:
+        return None
+    fig, axes = plt.subplots(1, len(obs), figsize=(0.6 + 4.2 * len(obs), 3.2), squeeze=False)
+    for ax, (label, pts) in zip(axes[0], obs.items()):
+        kind = pts["kind"][0] if len(pts) else ""
+        if kind == "curve":
+            x, xlabel = pts["t_ms"], "t [ms]"
+        elif kind == "profile":
+            x, xlabel = pts["x_mm"], "x [mm] (all its times)"
+        else:
+            x, xlabel = np.arange(len(pts)), "reading"
+        r = pts["residual"]
+        ax.axhspan(-2, 2, color="C2", alpha=0.08)
+        ax.axhspan(-1, 1, color="C2", alpha=0.12)
+        ax.plot(x, r, "o", ms=3, color="C0")
+        ax.axhline(0, color="k", lw=0.6)
+        ax.set(xlabel=xlabel, ylabel="residual [SD]",
+               title="%s: %d points, RMS %.2f SD" % (label, len(r), np.sqrt(np.mean(r**2))))
+        ax.title.set_fontsize(9)
+        if kind not in ("curve", "profile"):
+            ax.set_xticks(range(len(pts)), [str(k) for k in pts["observation"]], rotation=30,
+                          fontsize=7)
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def observed(fit):
+    """observations.csv split per observation label ({} without it)."""
+    if not fit.has("observations.csv"):
+        return {}
+    table = fit.observations
+    return {label: table.where(table["observation"] == label)
+            for label in dict.fromkeys(table["observation"])}
+
+
+def figures(folder):
+    """The fit's figures as [(name, matplotlib figure)]: fit-curves,
+    fit-profiles, fit-residuals, fit-convergence, fit-correlation, each
+    where its inputs exist."""
     fit = Fit(folder)
-    out = pathlib.Path(out or folder)
-    out.mkdir(parents=True, exist_ok=True)
-    obs = {}
-    if fit.has("observations.csv"):
-        table = fit.observations
-        obs = {label: table.where(table["observation"] == label)
-               for label in dict.fromkeys(table["observation"])}
-    else:
+    obs = observed(fit)
+    if not obs:
         print("no observations.csv: no measured points")
     best = fit.best_run
     if not best or not best.has("frames.csv") or not best.has("profiles.csv"):
         print("no best run's frames.csv and profiles.csv (%s): no fitted curves"
               % (best.folder if best else "-"))
         best = None
-    _curves(fit.result, obs, best, _start_run(fit), out)
-    _profiles(fit.result, obs, best, out)
-    _convergence(fit, out)
-    _correlation(fit.result, out)
+    made = [("fit-curves", _curves(fit.result, obs, best, _start_run(fit))),
+            ("fit-profiles", _profiles(fit.result, obs, best)),
+            ("fit-residuals", _residuals(obs)),
+            ("fit-convergence", _convergence(fit)),
+            ("fit-correlation", _correlation(fit.result))]
+    return [(name, fig) for name, fig in made if fig is not None]
+
+
+def plot(folder, out=None):
+    """The fit's figures as PNGs into out (default: the folder); returns the paths."""
+    return save_png(figures(folder), pathlib.Path(out or folder), dpi=110)
 
 
 RESULTS_HEAD = ["fit", "parameter", "truth", "fit", "SE", "95 % interval", "correlations",

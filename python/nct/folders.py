@@ -142,10 +142,25 @@ class Study:
     def analysis(self):
         return read_json(self.folder / "analysis.json")
 
+    @functools.cached_property
+    def spec(self):
+        """The study file as run (study.toml; {} without it)."""
+        if not self.has("study.toml"):
+            return {}
+        with open(self.folder / "study.toml", "rb") as f:
+            return tomllib.load(f)
+
+    @property
+    def factors(self):
+        """The study file's factor labels."""
+        return [f["label"] for f in self.spec.get("factor", [])]
+
     @property
     def responses(self):
-        """The analysed responses, in the study file's order."""
-        return [c for c in self.cases.columns if c in self.analysis["responses"]]
+        """The analysed responses (a table design: the study file's), in
+        the order of cases.csv."""
+        known = self.analysis.get("responses", self.spec.get("study", {}).get("responses", []))
+        return [c for c in self.cases.columns if c in known]
 
     @functools.cached_property
     def correlation(self):

@@ -2,8 +2,11 @@
 its pair plot and marginal intervals.
 
     samples = read("fits/three/posterior.csv")          # {label: array}
+    pair_figure("fits/three/posterior.csv", truths={"iop": 15.0})   # a matplotlib figure
     pair_plot("fits/three/posterior.csv", "posterior.png", truths={"iop": 15.0})
 """
+import pathlib
+
 import numpy as np
 
 from .tables import read_csv
@@ -22,9 +25,9 @@ def intervals(samples, level=0.95):
             for k, v in samples.items()}
 
 
-def pair_plot(path, png, truths=None, title=None):
+def pair_figure(path, truths=None, title=None):
     """Each pair's samples as a scatter, each parameter's marginal as a
-    histogram with its 95 % interval, the truths marked."""
+    histogram with its 95 % interval, the truths marked (a figure)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -58,5 +61,11 @@ def pair_plot(path, png, truths=None, title=None):
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(png, dpi=120)
-    plt.close(fig)
+    return fig
+
+
+def pair_plot(path, png, truths=None, title=None):
+    """The pair figure as a PNG."""
+    from .figures import save_png
+    png = pathlib.Path(png)
+    save_png([(png.stem, pair_figure(path, truths, title))], png.parent)

@@ -1,12 +1,12 @@
-"""A puff run's plots, and the air's pressure on the cornea of any puff
+"""A puff run's figures, and the air's pressure on the cornea of any puff
 run (prescribed, from a table or computed).
 
-    plot(run)                           # RUN/puff.png and RUN/profiles.png
+    figures(run)                        # [(name, figure)]: deformation, pressures, profiles
+    plot(run)                           # the same as PNGs in the run's folder
     corneal_pressure(run, t_ms)         # [(r, p)] on the anterior cornea at a time
     axial_force(profile)                # its axial force [N]
 """
 import math
-import os
 import pathlib
 
 import matplotlib
@@ -15,6 +15,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .figures import save_png  # noqa: E402
 from .folders import Run  # noqa: E402
 from .tables import read_csv  # noqa: E402
 
@@ -27,70 +28,95 @@ def events(summary):
     return [(k, summary[k + "_time_ms"]) for k in EVENTS if k + "_time_ms" in summary]
 
 
-def plot(run):
-    """Apex displacement, cavity and apex air pressures against time
-    (puff.png), the corneal profiles at the start, A1, HC and A2
-    (profiles.png). Returns the two paths."""
-    run = run if isinstance(run, Run) else Run(run)
-    s = run.summary
-    if "hc_time_ms" not in s:
-        raise ValueError(f"{run.folder}: no puff biomarkers in summary.json "
-                         f"(status {s.get('status')})")
-    fr = run.frames
-    t = fr["t_ms"]
-    marks = events(s)
+def _marked(ax, marks):
+    for name, te in marks:
+        ax.axvline(te, color="grey", lw=0.8, ls="--")
+        ax.text(te, 1.0, " " + name.upper(), va="bottom", fontsize=8,
+                transform=ax.get_xaxis_transform())
+    ax.set_xlabel("time from the onset of the puff [ms]")
+    ax.grid(alpha=0.3)
 
-    fig, ax = plt.subplots(1, 3, figsize=(15, 4.2))
-    ax[0].plot(t, fr["apex_displacement_mm"], label="apex")
-    ax[0].plot(t, fr["whole_eye_motion_mm"], label="whole eye (x = 4 mm)")
+
+def deformation_figure(run):
+    """The apex's axial displacement (deformation), its deflection (less
+    the whole eye's) and the whole eye's movement against time, A1, HC and
+    A2 marked."""
+    fr, marks = run.frames, events(run.summary)
+    t = fr["t_ms"]
+    fig, ax = plt.subplots(1, 2, figsize=(12, 3.8))
+    ax[0].plot(t, fr["apex_displacement_mm"], label="deformation (apex)")
+    ax[0].plot(t, fr["apex_displacement_mm"] - fr["whole_eye_motion_mm"],
+               label="deflection (apex less the whole eye)")
     ax[0].set_ylabel("axial displacement [mm] (+ outwards)")
+    ax[0].legend(fontsize=8)
+    ax[1].plot(t, 1e3 * fr["whole_eye_motion_mm"], color="C2")
+    ax[1].set_ylabel("whole-eye movement [um] (+ outwards):\nthe cornea at x = 4 mm")
+    for a in ax:
+        _marked(a, marks)
+    fig.tight_layout()
+    return fig
+
+
+def pressure_figure(run):
+    """The air's pressure at the apex and the IOP (each cavity's pressure)
+    against time, A1, HC and A2 marked."""
+    fr, marks = run.frames, events(run.summary)
+    t = fr["t_ms"]
+    fig, ax = plt.subplots(1, 2, figsize=(12, 3.8))
+    ax[0].plot(t, fr["apex_air_pressure_mmHg"], color="C3")
+    ax[0].set_ylabel("air pressure at the apex [mmHg]")
     iops = [k for k in fr.columns
             if k.endswith("_pressure_mmHg") and k != "apex_air_pressure_mmHg"]
     for k in iops:
         ax[1].plot(t, fr[k], label=k.replace("_pressure_mmHg", ""))
-    ax[1].set_ylabel("cavity pressure [mmHg]")
-    ax[2].plot(t, fr["apex_air_pressure_mmHg"])
-    ax[2].set_ylabel("air pressure at the apex [mmHg]")
-    for a in ax:
-        for name, te in marks:
-            a.axvline(te, color="grey", lw=0.8, ls="--")
-            a.text(te, a.get_ylim()[1], " " + name.upper(), va="top", fontsize=8)
-        a.set_xlabel("time from the start of the puff [ms]")
-        a.grid(alpha=0.3)
-    ax[0].legend()
+    ax[1].set_ylabel("IOP: cavity pressure [mmHg]")
     if len(iops) > 1:
-        ax[1].legend()
-    fig.suptitle("%s: deformation %.3f mm, deflection %.3f mm, peak distance %.2f mm, "
-                 "HC %.2f ms" % (os.path.basename(os.path.normpath(run.folder)),
-                                 s["deformation_amplitude_mm"],
-                                 s["deflection_amplitude_mm"], s["peak_distance_mm"],
-                                 s["hc_time_ms"]))
+        ax[1].legend(fontsize=8)
+    for a in ax:
+        _marked(a, marks)
     fig.tight_layout()
-    puff_png = run.folder / "puff.png"
-    fig.savefig(puff_png, dpi=120)
-    plt.close(fig)
+    return fig
 
-    # Profiles: the frames nearest t = 0, A1, HC and A2.
+
+def profiles_figure(run):
+    """The corneal profiles (anterior solid, posterior dashed) at the frames
+    nearest the onset, A1, HC and A2."""
     profiles = run.profiles
-    fig, ax = plt.subplots(figsize=(9, 4.5))
-    for (name, te), colour in zip([("start", 0.0)] + marks, ["k", "C0", "C3", "C2"]):
+    fig, ax = plt.subplots(figsize=(9, 4.2))
+    for (name, te), colour in zip([("start", 0.0)] + events(run.summary), ["k", "C0", "C3", "C2"]):
         k = profiles.nearest(te)
         for surface, style in (("anterior", "-"), ("posterior", "--")):
+            if surface not in profiles.surfaces:
+                continue
             x, y = profiles.curve(k, surface)
             label = "%s (%.2f ms)" % (name.upper() if name != "start" else name,
                                       profiles.t_ms[k])
             ax.plot(x, y, style, color=colour, label=label if surface == "anterior" else None)
     ax.set_xlabel("x [mm] (horizontal section)")
     ax.set_ylabel("y [mm] (along the axis)")
-    ax.set_title("corneal profiles, anterior (solid) and posterior (dashed)")
     ax.set_aspect("equal")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    profiles_png = run.folder / "profiles.png"
-    fig.savefig(profiles_png, dpi=120)
-    plt.close(fig)
-    return puff_png, profiles_png
+    return fig
+
+
+def figures(run):
+    """A puff run's figures as [(name, matplotlib figure)]: deformation,
+    pressures, profiles. A run without the puff's biomarkers has none."""
+    run = run if isinstance(run, Run) else Run(run)
+    if "hc_time_ms" not in run.summary or not run.has("frames.csv"):
+        return []
+    made = [("deformation", deformation_figure(run)), ("pressures", pressure_figure(run))]
+    if run.has("profiles.csv"):
+        made.append(("profiles", profiles_figure(run)))
+    return made
+
+
+def plot(run):
+    """The figures as PNGs into the run's folder; returns the paths."""
+    run = run if isinstance(run, Run) else Run(run)
+    return save_png(figures(run), run.folder)
 
 
 def pressure_table(path):

@@ -1,13 +1,15 @@
 """A study's plots and its report (the tables `nct study` writes).
 
-    plot(folder)          # FOLDER/plots/*.png; returns the paths written
+    figures(folder)       # [(name, matplotlib figure)], as the report shows them
+    plot(folder)          # the same as FOLDER/plots/*.png; returns the paths written
     report(folder, 8)     # the rankings (or the ablation's table) as Markdown
 
-plot writes, for a factorial or one-factor-at-a-time study:
+The figures, for a factorial or one-factor-at-a-time study:
 - correlation.png: the Pearson correlation matrix of factors and
-  responses as circles (area ~ |r|, colour = r);
-- main_effects.png: the mean response at each level of each factor, one
-  row per response, on a shared axis per row;
+  responses as circles (area ~ |r|, colour = r; the values printed up to
+  14 names);
+- main_effects.png: per response, the mean response at each factor's
+  levels (low to high), a line per factor;
 - pareto.png: per response, the terms' |effect| largest first, with the
   cumulative share of the explained sum of squares (factorial) or of the
   |effects| (one factor at a time);
@@ -18,39 +20,37 @@ correlation.png alone; for an ablation (design = "ablation"):
   percent difference from the baseline (its difference where the baseline
   is 0).
 """
+import pathlib
+
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .figures import save_png  # noqa: E402
 from .folders import Study  # noqa: E402
 from .tables import read_csv  # noqa: E402
 
 
-def _save(fig, out):
-    fig.tight_layout()
-    fig.savefig(out, dpi=150)
-    plt.close(fig)
-
-
-def _correlation(study, out):
+def _correlation(study):
     if study.correlation is None:
-        print("plot-study: no correlation.csv (fewer than 3 complete cases)")
+        print("study figures: no correlation.csv (fewer than 3 complete cases)")
         return None
     names, r = study.correlation
     m = len(names)
     fig, ax = plt.subplots(figsize=(1.0 + 0.8 * m, 0.6 + 0.8 * m))
     cmap = plt.get_cmap("RdBu_r")
-    for i in range(m):
-        for j in range(m):
-            v = r[i, j]
-            if np.isnan(v):
-                ax.text(j, i, "-", ha="center", va="center", color="0.5")
-                continue
-            ax.add_patch(plt.Circle((j, i), 0.45 * np.sqrt(abs(v)), color=cmap((v + 1) / 2)))
-            ax.text(j, i, f"{v:.2f}", ha="center", va="center", fontsize=7,
-                    color="white" if abs(v) > 0.6 else "black")
+    j, i = np.meshgrid(range(m), range(m))
+    ok = np.isfinite(r)
+    # One collection of circles, area ~ |r|: sized once the layout is done.
+    dots = ax.scatter(j[ok], i[ok], c=r[ok], cmap=cmap, vmin=-1, vmax=1, linewidths=0)
+    for a, b in zip(*np.nonzero(~ok)):
+        ax.text(b, a, "-", ha="center", va="center", color="0.5")
+    if m <= 14:  # the values too, where they fit
+        for a, b in zip(*np.nonzero(ok)):
+            ax.text(b, a, f"{r[a, b]:.2f}", ha="center", va="center", fontsize=7,
+                    color="white" if abs(r[a, b]) > 0.6 else "black")
     ax.set_xlim(-0.5, m - 0.5)
     ax.set_ylim(m - 0.5, -0.5)
     ax.set_aspect("equal")
@@ -63,66 +63,84 @@ def _correlation(study, out):
     sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(-1, 1))
     fig.colorbar(sm, ax=ax, shrink=0.8, label="Pearson r")
     ax.set_title("Correlation of factors and responses")
-    _save(fig, out)
-    return out
+    fig.tight_layout()
+    cell = ax.get_window_extent().width / m * 72 / fig.dpi  # a cell's width in points
+    dots.set_sizes((0.9 * cell) ** 2 * np.abs(r[ok]))  # a circle of 0.9 cell at |r| = 1
+    return fig
 
 
-def _main_effects(study, out):
+def _main_effects(study):
     # The levels as printed (text), the means as numbers.
     data = read_csv(study.folder / "main_effects.csv", numeric=False)
     if not len(data):
-        print("plot-study: no main effects (no response analysed)")
+        print("study figures: no main effects (no response analysed)")
         return None
     responses = list(dict.fromkeys(data["response"]))
     factors = list(dict.fromkeys(data["factor"]))
-    fig, axes = plt.subplots(len(responses), len(factors), squeeze=False, sharey="row",
-                             figsize=(2.2 * len(factors), 2.2 * len(responses)))
+    cols = min(5, len(responses))
+    rows = -(-len(responses) // cols)
+    fig, axes = plt.subplots(rows, cols, squeeze=False, figsize=(0.4 + 2.7 * cols, 0.9 + 2.3 * rows))
     for a, resp in enumerate(responses):
+        ax = axes[a // cols][a % cols]
+        width = 1
         for b, fac in enumerate(factors):
             pts = data.where((data["response"] == resp) & (data["factor"] == fac))
-            ax = axes[a][b]
-            ax.plot(range(len(pts)), pts["mean"].astype(float), "o-", color="C0")
-            ax.set_xticks(range(len(pts)), list(pts["level"]), fontsize=8)
-            ax.grid(alpha=0.3)
-            if a == len(responses) - 1:
-                ax.set_xlabel(fac)
-            if b == 0:
-                ax.set_ylabel(resp, fontsize=8)
-    fig.suptitle("Main effects: mean response at each level")
-    _save(fig, out)
-    return out
+            width = max(width, len(pts))
+            ax.plot(range(len(pts)), pts["mean"].astype(float), "o-", color=f"C{b % 10}",
+                    label=fac)
+        ax.set_xticks(range(width), ["low", "high"] if width == 2 else
+                      [f"level {i + 1}" for i in range(width)], fontsize=7)
+        ax.tick_params(axis="y", labelsize=7)
+        ax.set_title(resp, fontsize=8)
+        ax.grid(alpha=0.3)
+    for a in range(len(responses), rows * cols):
+        axes[a // cols][a % cols].set_visible(False)
+    fig.legend(*axes[0][0].get_legend_handles_labels(), loc="upper right", fontsize=8,
+               ncol=min(len(factors), 5))
+    fig.suptitle("Main effects: the mean response at each factor's levels (the levels: "
+                 "the design table)", fontsize=10, x=0.02, ha="left")
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.5 / (0.9 + 2.3 * rows)))
+    return fig
 
 
-def _pareto(study, out):
+def _pareto(study):
     effects = study.table("effects.csv")
     if not len(effects):
-        print("plot-study: no effects (no response analysed)")
+        print("study figures: no effects (no response analysed)")
         return None
     responses = list(dict.fromkeys(effects["response"]))
     factorial = study.has("anova.csv")
-    fig, axes = plt.subplots(len(responses), 1, squeeze=False,
-                             figsize=(8, 2.8 * len(responses)))
+    cols = min(4, len(responses))
+    rows = -(-len(responses) // cols)
+    height = 0.8 + 2.9 * rows
+    fig, axes = plt.subplots(rows, cols, squeeze=False, figsize=(0.4 + 3.6 * cols, height))
     for a, resp in enumerate(responses):
         terms = effects.where(effects["response"] == resp)
         size = np.abs(terms["effect"])
         share = size**2 if factorial else size  # SS ~ effect^2 in a 2^k design
         cum = 100 * np.cumsum(share) / share.sum() if share.sum() > 0 else 0 * share
-        ax = axes[a][0]
+        ax = axes[a // cols][a % cols]
         colours = ["C3" if e < 0 else "C0" for e in terms["effect"]]
         ax.bar(range(len(terms)), size, color=colours)
         ax.set_xticks(range(len(terms)), list(terms["term"]), rotation=60, ha="right",
                       fontsize=7)
-        ax.set_ylabel(f"|effect|\n{resp}", fontsize=8)
+        ax.tick_params(axis="y", labelsize=7)
+        ax.set_title(resp, fontsize=8)
         twin = ax.twinx()
         twin.plot(range(len(terms)), cum, "k.-", lw=1)
         twin.set_ylim(0, 105)
-        twin.set_ylabel("cumulative %", fontsize=8)
-    axes[0][0].set_title("Pareto of effects (blue: raises the response, red: lowers it)")
-    _save(fig, out)
-    return out
+        twin.tick_params(axis="y", labelsize=7)
+        if a % cols == cols - 1:
+            twin.set_ylabel("cumulative %", fontsize=7)
+    for a in range(len(responses), rows * cols):
+        axes[a // cols][a % cols].set_visible(False)
+    fig.suptitle("Pareto of effects: |effect| per term (blue: raises the response, red: "
+                 "lowers it), the cumulative share (line)", fontsize=10, x=0.02, ha="left")
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.4 / height))
+    return fig
 
 
-def _variants(study, out):
+def _variants(study):
     data = study.table("ablation.csv")
     analysis = study.analysis
     names = [v["name"] for v in analysis["variants"]]
@@ -168,27 +186,75 @@ def _variants(study, out):
         fig.text(0.01, 0.005, "\n".join(f"{v['name']}: {v['description']}" for v in described),
                  fontsize=7, va="bottom")
         fig.tight_layout(rect=(0, 0.04 * len(described) / nrows + 0.02, 1, 1))
-        fig.savefig(out, dpi=150)
-        plt.close(fig)
     else:
-        _save(fig, out)
-    return out
+        fig.tight_layout()
+    return fig
+
+
+def _interactions(study, response):
+    """Per pair of factors (A, B): the mean response at each level of A,
+    a line per level of B (parallel lines: no interaction)."""
+    cases = study.cases
+    factors = [f for f in study.factors if f in cases.columns]
+    pairs = [(a, b) for i, a in enumerate(factors) for b in factors[i + 1:]]
+    if not pairs or response not in cases.columns:
+        return None
+    ok = np.isfinite(cases[response])
+    cols = min(4, len(pairs))
+    rows = -(-len(pairs) // cols)
+    fig, axes = plt.subplots(rows, cols, squeeze=False, sharey=True,
+                             figsize=(0.6 + 2.9 * cols, 0.6 + 2.5 * rows))
+    for k, (a, b) in enumerate(pairs):
+        ax = axes[k // cols][k % cols]
+        levels_a = sorted(set(cases[a][ok].tolist()))
+        for j, lb in enumerate(sorted(set(cases[b][ok].tolist()))):
+            means = [np.mean(cases[response][ok & (cases[a] == la) & (cases[b] == lb)])
+                     if np.any(ok & (cases[a] == la) & (cases[b] == lb)) else np.nan
+                     for la in levels_a]
+            ax.plot(range(len(levels_a)), means, "o-", color=f"C{j}", label=f"{b} = {lb:g}")
+        ax.set_xticks(range(len(levels_a)), [f"{v:g}" for v in levels_a], fontsize=8)
+        ax.set_xlabel(a, fontsize=8)
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+        if k % cols == 0:
+            ax.set_ylabel(response, fontsize=8)
+    for k in range(len(pairs), rows * cols):
+        axes[k // cols][k % cols].set_visible(False)
+    fig.suptitle(f"Interactions: {response} (parallel lines: none)", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def interaction_figures(folder, responses=3):
+    """[(name, figure)]: the interaction plots of the study's first
+    responses (a factorial or one-factor-at-a-time study with 2+ factors)."""
+    study = Study(folder)
+    if study.analysis["design"] in ("ablation", "table"):
+        return []
+    made = [(f"interactions_{r}", _interactions(study, r)) for r in study.responses[:responses]]
+    return [(name, fig) for name, fig in made if fig is not None]
+
+
+def figures(folder):
+    """The study's figures as [(name, matplotlib figure)]: an ablation's
+    variants; a table design's correlation; else the correlation, the main
+    effects and the Pareto of effects (each where its table exists)."""
+    study = Study(folder)
+    if study.analysis["design"] == "ablation":
+        made = [("variants", _variants(study))]
+    elif study.analysis["design"] == "table":
+        made = [("correlation", _correlation(study))]
+    else:
+        made = [("correlation", _correlation(study)), ("main_effects", _main_effects(study)),
+                ("pareto", _pareto(study))]
+    return [(name, fig) for name, fig in made if fig is not None]
 
 
 def plot(folder):
-    """The study's plots into FOLDER/plots; returns the paths written."""
-    study = Study(folder)
-    plots = study.folder / "plots"
+    """The study's figures as PNGs into FOLDER/plots; returns the paths."""
+    plots = pathlib.Path(folder) / "plots"
     plots.mkdir(exist_ok=True)
-    if study.analysis["design"] == "ablation":
-        written = [_variants(study, plots / "variants.png")]
-    elif study.analysis["design"] == "table":
-        written = [_correlation(study, plots / "correlation.png")]
-    else:
-        written = [_correlation(study, plots / "correlation.png"),
-                   _main_effects(study, plots / "main_effects.png"),
-                   _pareto(study, plots / "pareto.png")]
-    return [p for p in written if p]
+    return save_png(figures(folder), plots, dpi=150)
 
 
 def _number(v, sign=""):
