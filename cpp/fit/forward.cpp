@@ -2,6 +2,7 @@
 #include "fit/forward.h"
 
 #include <algorithm>
+#include <chrono>
 #include <iostream>
 #include <set>
 
@@ -60,7 +61,19 @@ void Forward::run_missing(const std::vector<std::vector<std::string>>& wanted)
     todo.push_back(_runs.nct_run(name, _options.program, _fit.scene, s, _fit.ranks, _fit.mpiexec));
   }
   const int at_once = _options.jobs > 0 ? _options.jobs : _fit.jobs;
-  if (!jobs::run(_launcher, todo, at_once, [](std::size_t, int) {}))
+  // A line per forward run: [done/this step's runs], the time to go.
+  const auto start = std::chrono::steady_clock::now();
+  std::size_t finished = 0;
+  auto done = [&](std::size_t i, int code)
+  {
+    const double elapsed
+        = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++finished;
+    std::cout << "  forward " << todo_names[i]
+              << (code == 0 ? std::string(" done") : format(" failed (exit %d)", code)) << "  "
+              << jobs::progress(finished, todo.size(), finished, elapsed) << std::endl;
+  };
+  if (!jobs::run(_launcher, todo, at_once, done))
     throw Interrupted();
   for (std::size_t i = 0; i < todo.size(); ++i)
     if (_runs.finished(todo_names[i]))

@@ -34,7 +34,8 @@ ceres::CallbackReturnType Progress::operator()(const ceres::IterationSummary& s)
     return ceres::SOLVER_ABORT;
   const double wall
       = std::chrono::duration<double>(std::chrono::steady_clock::now() - _start).count();
-  std::string line = format("iteration %2d  cost %.6e  ", s.iteration, s.cost);
+  std::string line = format("iteration %2d of at most %d  cost %.6e  ", s.iteration,
+                            _fit.max_iterations, s.cost);
   _csv << s.iteration << "," << io::literal(s.cost) << "," << io::literal(s.step_norm) << ","
        << io::literal(s.trust_region_radius) << "," << (s.step_is_successful ? 1 : 0);
   for (std::size_t i = 0; i < _fit.parameters.size(); ++i)

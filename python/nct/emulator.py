@@ -28,6 +28,7 @@ with k*_i = c (1 + sqrt5 r + 5 r^2 / 3) exp(-sqrt5 r), r = |(x - X_i) / l|.
 """
 import json
 import math
+import time
 
 import numpy as np
 from scipy.linalg import solve_triangular
@@ -104,10 +105,15 @@ def _curves(data):
     return np.hstack([training.arrays(data, b) for b in CURVES]) / NOISE_MM
 
 
+def _learnable(y):
+    ok = np.isfinite(y)
+    return ok.sum() >= len(y) // 2 and np.ptp(y[ok]) > 0
+
+
 class Emulator:
     """The trained emulator (see the module's text)."""
 
-    def __init__(self, data, share, seed, restarts):
+    def __init__(self, data, share, seed, restarts, progress=False):
         self.box = Box(data["box"])
         self.X = self.box.to_unit(np.array([r["inputs"] for r in data["runs"]]))
         # Where the outputs are: every run on the same frame clock and profiles.
@@ -128,14 +134,23 @@ class Emulator:
         self.basis = Vt[:self.components].T                      # (outputs, k)
         W = (Y - self.mean) @ self.basis
         self.truncation = _truncation(Y, self.components)         # per output, noise units^2
-        self.weights = [_gp(self.X, W[:, j], seed, restarts) for j in range(self.components)]
+        # A reading is learnt where half the runs give it and it varies.
+        keys = [k for k in training.READINGS + ["iop_max_mmHg"]
+                if _learnable(training.arrays(data, k)[:, 0])]
+        tick = Progress(self.components + len(keys), "emulator: trained") if progress else None
+        self.weights = []
+        for j in range(self.components):
+            self.weights.append(_gp(self.X, W[:, j], seed, restarts))
+            if tick:
+                tick(f"curve component {j + 1}")
         self.readings, self.reading_ranges = {}, {}
-        for key in training.READINGS + ["iop_max_mmHg"]:
+        for key in keys:
             y = training.arrays(data, key)[:, 0]
             ok = np.isfinite(y)
-            if ok.sum() >= len(y) // 2 and np.ptp(y[ok]) > 0:
-                self.readings[key] = (_gp(self.X[ok], y[ok], seed, restarts), ok)
-                self.reading_ranges[key] = [float(y[ok].min()), float(y[ok].max())]
+            self.readings[key] = (_gp(self.X[ok], y[ok], seed, restarts), ok)
+            self.reading_ranges[key] = [float(y[ok].min()), float(y[ok].max())]
+            if tick:
+                tick(key)
 
     def predict(self, x):
         """Means and variances at x (natural units): curves (mm, the blocks
@@ -152,9 +167,27 @@ class Emulator:
         return {"curves_mm": curves, "curves_var_mm2": curves_var, "readings": readings}
 
 
-def train(data, share=0.999, seed=1, restarts=5):
-    """The emulator of a training set (nct.training's dict)."""
-    return Emulator(data, share, seed, restarts)
+def train(data, share=0.999, seed=1, restarts=5, progress=True):
+    """The emulator of a training set (nct.training's dict); with progress,
+    a line per Gaussian process trained, with the count and the time to go."""
+    return Emulator(data, share, seed, restarts, progress)
+
+
+class Progress:
+    """A line per piece of work done: `label name  [done/total]  elapsed,
+    about ... to go` (as nct's studies, fits and cohorts print)."""
+
+    def __init__(self, total, label):
+        self.total, self.label, self.done = total, label, 0
+        self.start = time.monotonic()
+
+    def __call__(self, name):
+        self.done += 1
+        elapsed = time.monotonic() - self.start
+        line = f"{self.label} {name}  [{self.done}/{self.total}]  {elapsed:.0f} s elapsed"
+        if self.done < self.total:
+            line += f", about {elapsed / self.done * (self.total - self.done):.0f} s to go"
+        print(line, flush=True)
 
 
 def _export_gp(gp, X):

@@ -104,7 +104,7 @@ def size_curve(data, held, sizes, share=0.999, seed=1):
     for n in sizes:
         part = dict(data, runs=[data["runs"][i] for i in order[:n]])
         start = time.time()
-        em = emulator.train(part, share=share, seed=seed)
+        em = emulator.train(part, share=share, seed=seed, progress=False)
         wall = time.time() - start
         report = validate(em, held)
         rows.append({"runs": n, "apex_rms_um": report["apex_rms_um"],
