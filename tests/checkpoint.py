@@ -54,6 +54,7 @@ def nct_run(ranks, folder, *extra, env=None, expect=0, resume=False):
     launcher = ["mpirun", "-n", str(ranks), "--allow-run-as-root", "--oversubscribe",
                 "--mca", "odls_base_sigkill_timeout", "0"]
     cmd = (launcher if ranks > 1 else []) + [nct, "run", scene, *sets, *extra,
+                                             "--no-report",
                                              "--resume" if resume else "--out", folder]
     p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                        env={**os.environ, **(env or {})})

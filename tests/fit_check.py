@@ -54,7 +54,7 @@ SECTION = 'mesh.dimension="axisymmetric"'
 def readings(folder):
     """The truth's run and its noisy readings in folder/data."""
     run = os.path.join(folder, "truth")
-    subprocess.run([nct, "run", scene, "--out", run, "--set", SECTION,
+    subprocess.run([nct, "run", scene, "--out", run, "--no-report", "--set", SECTION,
                     "--set", "output.fields=false",
                     "--set", "material.cornea.c10=%g" % TRUTH["c10_cornea"],
                     "--set", "material.limbus.c10=%g" % TRUTH["c10_cornea"],

@@ -17,8 +17,9 @@ never a crash, a hang, NaN in an output or an unreadable output file:
 Either way every file written must be complete: summary.json parses with
 no null (nlohmann writes NaN as null), every CSV has rows of finite
 numbers, every XDMF is well-formed XML whose HDF5 datasets exist and hold
-finite values. EXPECT (converged, failed; default either) demands one
-outcome. The outcome goes to OUT/outcome.json for cases/hard-cases/run.
+finite values; without --no-report, the run's page (report.html) exists
+and, for a run that stopped, says so. EXPECT (converged, failed; default
+either) demands one outcome. The outcome goes to OUT/outcome.json for cases/hard-cases/run.
 """
 import json
 import math
@@ -178,6 +179,14 @@ def main():
                 fail(f"{name}: the diagnosis lacks '{needle}': {error}")
         if "error:" not in run.stderr:
             fail(f"{name}: no 'error:' line on stderr")
+    if "--no-report" not in command:  # its page, for a run that stopped too
+        page = os.path.join(out, "report.html")
+        if not os.path.exists(page):
+            fail(f"{name}: no report.html")
+        with open(page) as f:
+            text = f.read()
+        if run.returncode == 3 and "The run stopped: status failed" not in text:
+            fail(f"{name}: its page does not say it stopped")
     with open(os.path.join(out, "outcome.json"), "w") as f:
         json.dump(outcome, f, indent=1)
     print(f"{name}: {'converged' if run.returncode == 0 else 'failed with a diagnosis'}"

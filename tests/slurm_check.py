@@ -78,7 +78,7 @@ def alive(state):
 
 
 def study(folder, *more):
-    return [nct, "study", STUDY, "--launcher", "slurm", "--out", folder, *more]
+    return [nct, "study", STUDY, "--launcher", "slurm", "--out", folder, "--no-report", *more]
 
 
 def wait_for(predicate, what, seconds=300):

@@ -34,7 +34,7 @@ os.makedirs(out)
 def run(folder, env):
     p = subprocess.run(["mpirun", "-n", "2", "--allow-run-as-root", "--oversubscribe", nct, "run",
                         scene, "--set", "mesh.layers=2", "--set", "puff.duration=2.0", "--out",
-                        folder], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                        folder, "--no-report"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                        env={**os.environ, **env})
     print(p.stdout)
     assert p.returncode == 0, f"exit {p.returncode}"

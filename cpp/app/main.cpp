@@ -1,8 +1,10 @@
 // nct: the command-line front end (check, run, study, fit, report, describe).
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdlib>
 #include <iostream>
 #include <sstream>
+#include <thread>
 
 #include "biomarkers/registry.h"
 #include "fit/fit.h"
@@ -225,13 +227,32 @@ int drive(const std::string& verb, const DriverArgs& a)
   }
 }
 
-/// nct check or nct run (`run`) of a scene, on the ranks of this MPI job,
-/// into `out`; `rank` this process' rank. Its exit code: 2 for bad input,
-/// 3 when the run diverged.
-int run_scene(char* argv0, SceneArgs& a, bool run, std::filesystem::path& out, int& rank)
+/// A run's page, by rank 0 while the others wait (idle, not spinning): a
+/// rank that exits first, with a diverged run's code 3, would have mpirun
+/// stop rank 0 before its page is written.
+void write_page(const std::filesystem::path& out, int rank)
+{
+  if (rank == 0)
+    nct::report::after(out);
+  MPI_Request done;
+  MPI_Ibarrier(MPI_COMM_WORLD, &done);
+  for (int finished = 0; !finished;)
+  {
+    MPI_Test(&done, &finished, MPI_STATUS_IGNORE);
+    if (!finished)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+}
+
+/// nct check or nct run (`run`) of a scene, on the ranks of this MPI job;
+/// a run's page at its end, a finished or a diverged one's. Its exit
+/// code: 2 for bad input, 3 when the run diverged.
+int run_scene(char* argv0, SceneArgs& a, bool run)
 {
   nct::Runtime runtime(argv0);
+  int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  std::filesystem::path out;
   try
   {
     if (run)
@@ -252,6 +273,8 @@ int run_scene(char* argv0, SceneArgs& a, bool run, std::filesystem::path& out, i
       options.out = a.resume, options.resume = true;
     out = options.out;
     nct::run(MPI_COMM_WORLD, input, options);
+    if (!a.no_report)
+      write_page(out, rank);
     return 0;
   }
   catch (const nct::scene::Error& e)
@@ -270,6 +293,8 @@ int run_scene(char* argv0, SceneArgs& a, bool run, std::filesystem::path& out, i
   {
     if (rank == 0)
       std::cerr << "error: " << e.what() << std::endl;
+    if (!a.no_report)
+      write_page(out, rank);
     return 3;
   }
   catch (const std::exception& e)
@@ -318,11 +343,5 @@ int main(int argc, char* argv[])
     return nct::report::write(pages.folder, pages.out);
   if (study->parsed() || fit->parsed())
     return drive(study->parsed() ? "study" : "fit", driver);
-  std::filesystem::path out;
-  int rank = 0;
-  const int code = run_scene(argv[0], scene, run->parsed(), out, rank);
-  // The page once MPI is done: a finished run's, or what a diverged one wrote.
-  if (run->parsed() && (code == 0 || code == 3) && rank == 0 && !scene.no_report)
-    nct::report::after(out);
-  return code;
+  return run_scene(argv[0], scene, run->parsed());
 }

@@ -61,6 +61,19 @@ class Pages(unittest.TestCase):
         self.assertIn("deformation amplitude", flagged[0])
         self.assertIn("beyond 2 SD if the clocks agreed", dcr)
 
+    def test_coupled_run_shows_its_energy_balance(self):
+        folder = write_run(self.root / "run")
+        energy = {"solid_energy_change_mJ": 0.5, "damping_dissipation_mJ": 0.1,
+                  "cavity_work_mJ": 0.05, "air_traction_work_mJ": 0.56,
+                  "reaction_work_mJ": 0.55, "traction_mismatch_relative": 0.018,
+                  "reaction_mismatch_relative": 0.0}
+        (folder / "summary.json").write_text(json.dumps(dict(SUMMARY, energy_balance=energy)))
+        text = report.write(folder).read_text()
+        self.assertIn('<section id="energy">', text)
+        self.assertIn("<td>traction_mismatch_relative</td><td>0.018</td>", text)
+        self.assertNotIn('<section id="energy">', report.write(write_run(self.root / "b"))
+                         .read_text())
+
     def test_cbi(self):
         summary = dict(SUMMARY, a1_velocity_m_s=-0.15, sp_a1_mmHg_per_mm=100.0,
                        da_ratio_1mm=1.55, da_ratio_2mm=4.3)
