@@ -74,7 +74,7 @@ options = webdriver.ChromeOptions()
 options.binary_location = "/usr/bin/chromium"
 for flag in ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
              "--disable-background-networking", "--disable-component-update", "--disable-sync",
-             "--window-size=1400,1000"):
+             "--disable-dev-shm-usage", "--window-size=1400,1000"):
     options.add_argument(flag)
 profile = tempfile.mkdtemp(prefix="nct-chromium-")
 options.add_argument("--user-data-dir=" + profile)

@@ -49,11 +49,12 @@
   const cx = (v) => m + (CW - m - 10) * v / tmax;
   const cy = (v) => 12 + (CH - 40) * (amax - v) / (amax - amin || 1);
   add(chart, "line", {x1: m, y1: cy(0), x2: CW - 10, y2: cy(0), stroke: "#c0c6ce"});
-  for (let k = 0; k <= 5; ++k) {
-    const v = tmax * k / 5;
+  // Time ticks at 1, 2 or 5 times a power of ten, at most seven of them.
+  const raw = tmax / 7, power = Math.pow(10, Math.floor(Math.log10(raw)));
+  const step = [1, 2, 5, 10].map((f) => f * power).find((s) => s >= raw);
+  for (let v = 0; v <= tmax + 1e-9; v += step)
     add(chart, "text", {x: cx(v), y: CH - 12, "font-size": 10, "text-anchor": "middle",
-                        fill: "#4b5563"}).textContent = v.toFixed(1);
-  }
+                        fill: "#4b5563"}).textContent = v.toFixed(step < 1 ? 1 : 0);
   add(chart, "text", {x: CW / 2, y: CH - 1, "font-size": 10, "text-anchor": "middle",
                       fill: "#4b5563"}).textContent = "ms from the onset of the puff";
   add(chart, "text", {x: 2, y: cy(amin), "font-size": 10, fill: "#4b5563"}).textContent =
