@@ -82,7 +82,7 @@ def markdown(summary):
 
 
 # The Corvis Biomechanical Index (Vinciguerra et al. 2016, J Refract Surg
-# 32(12):803-810; coefficients as reprinted in Sci Rep 11:3018 (2021),
+# 32(12):803-810; coefficients as reprinted in Sci. Rep. (2021),
 # doi:10.1038/s41598-020-80915-9, Table 4): CBI = e^b / (1 + e^b),
 # b = B7 + sum of B_i x_i. (input, coefficient B_i, unit, summary key or
 # None when a run cannot give it, why not).

@@ -227,7 +227,8 @@ def _cbi(section, summary):
                       "(2016) 803-810): a logistic regression, CBI = 1 / (1 + exp(-b)), b = "
                       "46.576 - 59.487 A1 velocity - 0.027 ARTh - 0.092 SP-A1 - 27.169 DA ratio "
                       "1 mm + 5.472 DA ratio 2 mm - 0.599 SD deflection amplitude (coefficients "
-                      "as reprinted in Sci. Rep. 11 (2021) 3018, table 4).", "note")
+                      "as reprinted in Sci. Rep. (2021), doi:10.1038/s41598-020-80915-9, "
+                      "table 4).", "note")
 
 
 def _energy(section, summary):
