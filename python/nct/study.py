@@ -228,7 +228,7 @@ def _interactions(study, response):
 def interaction_figures(folder, responses=3):
     """[(name, figure)]: the interaction plots of the study's first
     responses (a factorial or one-factor-at-a-time study with 2+ factors)."""
-    study = Study(folder)
+    study = folder if isinstance(folder, Study) else Study(folder)
     if study.analysis["design"] in ("ablation", "table"):
         return []
     made = [(f"interactions_{r}", _interactions(study, r)) for r in study.responses[:responses]]
@@ -239,7 +239,7 @@ def figures(folder):
     """The study's figures as [(name, matplotlib figure)]: an ablation's
     variants; a table design's correlation; else the correlation, the main
     effects and the Pareto of effects (each where its table exists)."""
-    study = Study(folder)
+    study = folder if isinstance(folder, Study) else Study(folder)
     if study.analysis["design"] == "ablation":
         made = [("variants", _variants(study))]
     elif study.analysis["design"] == "table":

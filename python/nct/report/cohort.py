@@ -3,7 +3,7 @@ warnings), the fitted stiffness against the IOP and age, the recovery
 plot where truths exist."""
 from .. import cohort as figures
 from ..folders import Cohort
-from .page import Page, escape, number
+from .page import Page, links, number
 
 
 def _patients(section, c):
@@ -58,8 +58,6 @@ def page(folder):
         rec = page.section("recovery", "Recovery of the truths")
         rec.figure(made.pop("cohort-recovery"), "Fitted values (95 % intervals) against the "
                    "truths; the line: fit = truth", "cohort-recovery")
-    links = " ".join(f'<a href="{escape(n)}">{escape(n)}</a>'
-                     for n in ("fit.toml", "cohort.csv", "cohort.json")
-                     if (c.folder / n).is_file())
-    page.section("files", "Files").raw(f"<p>{links}</p>")
+    page.section("files", "Files").raw(
+        f"<p>{links(c.folder, ('fit.toml', 'cohort.csv', 'cohort.json'))}</p>")
     return page

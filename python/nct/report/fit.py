@@ -6,7 +6,7 @@ import os
 from .. import fit as figures
 from .. import posterior
 from ..folders import Fit
-from .page import Page, escape, number
+from .page import Page, escape, link, links, number
 
 
 def verdict(chi2, dof):
@@ -119,16 +119,15 @@ def page(folder):
     if fit.has("posterior.csv"):
         _posterior(page.section("posterior", "Posterior"), fit)
     model = r.get("forward_model", {})
-    files = [n for n in ("fit.toml", "fit.json", "iterations.csv", "observations.csv",
-                         "posterior.csv") if fit.has(n)]
-    links = " ".join(f'<a href="{escape(n)}">{escape(n)}</a>' for n in files)
+    files = links(fit.folder, ("fit.toml", "fit.json", "iterations.csv", "observations.csv",
+                               "posterior.csv"))
     best = fit.best_run
     where = os.path.relpath(best.folder, fit.folder) if best else ""
-    extra = (f' The best run: <a href="{escape(where)}/">{escape(where)}</a> '
+    extra = (f" The best run: {link(where + '/', where)} "
              "(<code>nct report</code> on it draws its page)." if best else "")
     if model.get("emulator"):
         extra += f" Forward model: the emulator {escape(model['emulator'])}."
-    page.section("files", "Files").raw(f"<p>{links}.{extra}</p>")
+    page.section("files", "Files").raw(f"<p>{files}.{extra}</p>")
     for leftover, fig in made.items():  # a figure no section took
         page.sections[-1].figure(fig, leftover, leftover)
     return page

@@ -105,6 +105,17 @@ class Page:
         return path
 
 
+def link(target, text=None):
+    """An <a> to a path relative to the page (escaped)."""
+    return f'<a href="{escape(target)}">{escape(text or target)}</a>'
+
+
+def links(folder, names):
+    """Links to those of the named files the folder holds, comma separated."""
+    folder = pathlib.Path(folder)
+    return ", ".join(link(n) for n in names if (folder / n).is_file())
+
+
 def number(value, digits=4, sign=""):
     """A value as text: '-' for None or NaN."""
     if value is None or (isinstance(value, float) and value != value):

@@ -4,11 +4,12 @@ parameters against normal eyes, the CBI, the energy balance and the
 solver's profile, the files for ParaView."""
 import pathlib
 
+import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import clinic, puff, timing
 from ..folders import Run
-from .page import Page, escape, number
+from .page import Page, link, links, number
 
 MMHG = "mmHg"
 
@@ -259,7 +260,6 @@ def _solver(section, run):
         head, rows = timing.phases(s)
         section.table(head, rows, "profile")
     if run.has("steps.csv"):
-        import matplotlib.pyplot as plt
         st = run.steps
         if len(st):
             residual = "residual_N" in st.columns
@@ -280,15 +280,13 @@ def _solver(section, run):
 
 
 def _files(section, run):
-    xdmf = sorted(p.name for p in run.folder.glob("*.xdmf"))
-    others = [n for n in ("summary.json", "frames.csv", "profiles.csv", "steps.csv",
-                          "probes.csv", "forces.csv", "scene.toml", "run.log") if run.has(n)]
-    links = "".join(f'<li><a href="{escape(n)}">{escape(n)}</a></li>' for n in xdmf)
+    xdmf = "".join(f"<li>{link(p.name)}</li>" for p in sorted(run.folder.glob("*.xdmf")))
     section.raw("<p>Fields for ParaView (File, Open, the .xdmf; its .h5 beside it):</p>"
-                + (f"<ul class=\"xdmf\">{links}</ul>" if xdmf else
+                + (f"<ul class=\"xdmf\">{xdmf}</ul>" if xdmf else
                    "<p class=\"note\">none written (output.fields = false)</p>"))
-    section.raw("<p>Tables: " + ", ".join(f'<a href="{escape(n)}">{escape(n)}</a>'
-                                           for n in others) + "</p>")
+    section.raw("<p>Tables: " + links(run.folder, ("summary.json", "frames.csv", "profiles.csv",
+                                                   "steps.csv", "probes.csv", "forces.csv",
+                                                   "scene.toml", "run.log")) + "</p>")
 
 
 def page(folder):

@@ -4,7 +4,7 @@ import numpy as np
 
 from .. import study as figures
 from ..folders import Study
-from .page import Page, escape, number
+from .page import Page, links, number
 
 
 def _design(section, s):
@@ -109,7 +109,7 @@ def page(folder):
                 f"{s.folder.resolve()}: {analysis['design']}, {analysis['cases']} cases")
     _design(page.section("design", "Design"), s)
     _cases(page.section("cases", "Cases: status and cost"), s)
-    made = dict(figures.figures(folder))
+    made = dict(figures.figures(s))
     if analysis["design"] == "ablation":
         sec = page.section("ablation", "The ablation's differences")
         _ablation(sec, s)
@@ -123,7 +123,7 @@ def page(folder):
                                "the cumulative share")):
             if name in made:
                 sec.figure(made[name], caption, name)
-        for name, fig in figures.interaction_figures(folder):
+        for name, fig in figures.interaction_figures(s):
             sec.figure(fig, "Interaction plots of " + name[len("interactions_"):], name)
         if not sec.parts:
             sec.paragraph("No effects: the study analysed no response.", "note")
@@ -133,8 +133,7 @@ def page(folder):
         page.section("correlation", "Correlations").figure(
             made["correlation"], "Pearson correlations of the factors and responses over the "
             "cases", "correlation")
-    links = "".join(f'<a href="{escape(n)}">{escape(n)}</a> ' for n in
-                    ("study.toml", "cases.csv", "analysis.json", "effects.csv", "anova.csv",
-                     "main_effects.csv", "correlation.csv", "ablation.csv") if s.has(n))
-    page.section("files", "Files").raw(f"<p>Tables: {links}</p>")
+    tables = links(s.folder, ("study.toml", "cases.csv", "analysis.json", "effects.csv",
+                              "anova.csv", "main_effects.csv", "correlation.csv", "ablation.csv"))
+    page.section("files", "Files").raw(f"<p>Tables: {tables}</p>")
     return page
