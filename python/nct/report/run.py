@@ -4,10 +4,10 @@ parameters against normal eyes, the CBI, the energy balance and the
 solver's profile, the files for ParaView."""
 import pathlib
 
-import matplotlib.pyplot as plt
 import numpy as np
 
 from .. import clinic, puff, timing
+from ..figures import plt  # the Agg backend chosen there
 from ..folders import Run
 from .page import Page, link, links, number
 
