@@ -94,6 +94,35 @@ TEST(Biomarkers, ConcaveRadius)
   EXPECT_FALSE(nct::biomarkers::concave_radius(flat, 1.5));
 }
 
+// A concavity that is an arc of a circle of radius Rc (centre on the outer
+// side) between rims at +-a, falling as a cornea beyond them: the circle
+// over the samples between the two highest points is the arc's, to round-off.
+TEST(Biomarkers, ConcavityRadius)
+{
+  const double Rc = 8.0, a = 2.4, y0 = -1.0;
+  auto arc = [&](double x) { return y0 + Rc - std::sqrt(Rc * Rc - x * x); };
+  auto dent = [&](double x)
+  {
+    const double s = std::abs(x);
+    return s <= a ? arc(x) : arc(a) - (s - a) * (s - a) / 7.8 - 0.3 * (s - a);
+  };
+  for (double h : {0.05, 0.013})
+  {
+    auto p = sample(h, dent, 0.3 * h);
+    const auto radius = nct::biomarkers::concavity_radius(p);
+    ASSERT_TRUE(radius);
+    std::printf("concavity radius, step %.3f: %.9f mm (exact %.1f)\n", h, *radius, Rc);
+    EXPECT_NEAR(*radius, Rc, 1e-9);
+    nct::biomarkers::Definitions d; // the rule by default: the whole concavity
+    EXPECT_NEAR(*nct::biomarkers::concave_radius(p, d), Rc, 1e-9);
+  }
+  // A cornea only pushed flatter (convex) or not at all has no concavity.
+  auto convex = sample(0.05, [](double x) { return -x * x / (2 * 7.8); }, 0.013);
+  EXPECT_FALSE(nct::biomarkers::concavity_radius(convex));
+  auto flatter = sample(0.05, [](double x) { return -x * x / (2 * 20.0); }, 0.013);
+  EXPECT_FALSE(nct::biomarkers::concavity_radius(flatter));
+}
+
 // A cornea of radius 7.8 mm pushed in by D0 exp(-x^2 / (2 w^2)), its nodes
 // moved sideways (sampled 0.011 mm off the rest's columns): the DA ratio at
 // d is exp(d^2 / (2 w^2)).
@@ -156,7 +185,10 @@ TEST(Biomarkers, SyntheticPuff)
                                        + 2 * b(s) * h * std::max(std::abs(x) - h, 0.0)
                                        + plateau(x, h, c, 4); }, 0.007));
   }
-  const auto r = nct::biomarkers::analyse(t, profiles, apex, whole, 0.4, radius_window, tol);
+  nct::biomarkers::Definitions d;
+  d.apex_window = 0.4, d.radius_rule = nct::biomarkers::RadiusRule::window;
+  d.radius_window = radius_window, d.flatness = tol, d.frame_interval = dt;
+  const auto r = nct::biomarkers::analyse(t, profiles, apex, whole, d);
   const double t1 = T / M_PI * std::asin(b0 / (b0 + b1));
   std::printf("HC %.4f ms (exact %.4f), DA %.5f, deflection %.5f; A1 %.4f ms (exact %.4f), "
               "length %.4f mm, velocity %.5f; A2 %.4f ms (exact %.4f), velocity %.5f; "
@@ -217,10 +249,11 @@ TEST(Biomarkers, SyntheticPuff)
   const double integral = 2 * (-b0 * (T - 2 * t1) + (b0 + b1) * 2 * T / M_PI
                                                         * std::cos(M_PI * t1 / T));
   const double trapezoids = dt * dt / 12 * (T - 2 * t1) * 2 * (b0 + b1) * std::pow(M_PI / T, 2);
-  ASSERT_TRUE(r.integrated_inverse_radius);
-  std::printf("integrated inverse radius %.9f ms/mm (exact %.9f, bound %.4e)\n",
-              *r.integrated_inverse_radius, integral, trapezoids);
-  EXPECT_NEAR(*r.integrated_inverse_radius, integral, trapezoids);
+  // The device counts time in frames: the integral over the frame interval.
+  ASSERT_TRUE(r.integrated_radius);
+  std::printf("integrated radius %.9f /mm (exact %.9f, bound %.4e)\n", *r.integrated_radius,
+              integral / dt, trapezoids / dt);
+  EXPECT_NEAR(*r.integrated_radius, integral / dt, trapezoids / dt);
 
   // The deformation y(x, 0) - y(x, t) is sin(pi t / T) (A - (b0 + b1) g(x))
   // with g = x^2 for |x| <= h, h^2 + 2 h (|x| - h) beyond: a constant ratio
@@ -262,15 +295,21 @@ TEST(Biomarkers, StiffPuff)
     t.push_back(s), apex.push_back(u), whole.push_back(B * std::sin(M_PI * s / T));
     profiles.push_back(sample(0.02, [&](double x) { return u + b * x * x; }, 0.007));
   }
-  const auto r = nct::biomarkers::analyse(t, profiles, apex, whole, 0.4, 1.5, 0.01);
-  EXPECT_FALSE(r.applanated);
-  EXPECT_FALSE(r.hc_radius);
-  EXPECT_EQ(r.max_inverse_radius, 0.0);
-  EXPECT_FALSE(r.integrated_inverse_radius);
-  EXPECT_FALSE(r.da_ratio_1mm);
-  EXPECT_FALSE(r.da_ratio_2mm);
-  EXPECT_EQ(r.whole_eye_movement_max, 0.0);
-  EXPECT_FALSE(r.whole_eye_movement_time);
+  nct::biomarkers::Definitions d;
+  d.apex_window = 0.4, d.flatness = 0.01, d.frame_interval = dt;
+  for (auto rule : {nct::biomarkers::RadiusRule::window, nct::biomarkers::RadiusRule::concavity})
+  {
+    d.radius_rule = rule;
+    const auto r = nct::biomarkers::analyse(t, profiles, apex, whole, d);
+    EXPECT_FALSE(r.applanated);
+    EXPECT_FALSE(r.hc_radius);
+    EXPECT_EQ(r.max_inverse_radius, 0.0);
+    EXPECT_FALSE(r.integrated_radius);
+    EXPECT_FALSE(r.da_ratio_1mm);
+    EXPECT_FALSE(r.da_ratio_2mm);
+    EXPECT_EQ(r.whole_eye_movement_max, 0.0);
+    EXPECT_FALSE(r.whole_eye_movement_time);
+  }
 }
 
 // The frames between two steps: the cubic Hermite interpolant of the nodes'

@@ -281,7 +281,7 @@ TEST(Puff, MeasuredPulseOnTheOrbit)
   EXPECT_GT(wem, 0);
   EXPECT_GT(wem_time, hc);
   for (const char* key : {"hc_radius_mm", "max_inverse_radius_per_mm",
-                          "integrated_inverse_radius_ms_per_mm", "da_ratio_1mm", "da_ratio_2mm",
+                          "integrated_radius_per_mm", "da_ratio_1mm", "da_ratio_2mm",
                           "a1_a2_interval_ms", "a1_hc_interval_ms", "a1_deflection_mm",
                           "sp_a1_mmHg_per_mm"})
     EXPECT_TRUE(summary.contains(key)) << key;

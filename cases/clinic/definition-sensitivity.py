@@ -14,7 +14,15 @@ and across each definition's plausible range, and prints Markdown tables.
 - Applanation: A1 (A2) where the apex curvature b of y = a + b x^2 over
   |x| <= 1 mm turns positive (negative) before (after) HC; the length is
   the flat segment about the axis within `flatness` of the apex height.
-- HC radius: 1 / (2 b) of the same fit over |x| <= `window` at HC.
+- HC radius: the circle fitted (least squares) to the profile between its
+  two highest points at HC, the whole concavity (nct's default,
+  `puff.radius_rule = "concavity"`); or 1 / (2 b) of the same parabola fit
+  over |x| <= `window`; or the circle through the apex and the two peaks.
+- Integrated radius: the inverse concave radius summed from A1 to A2 with
+  time in frames (trapezoids, 0 at A1 and A2), in 1/mm as the device.
+- DA ratio: the apex's deformation over the mean deformation at x = +-d in
+  fixed image columns, its largest from A1 to A2 (nct), at HC, or over
+  every frame whose flanks moved by more than 0.02 mm.
 - Whole-eye movement: the axial displacement of the anterior profile in the
   fixed image column x = +-d (mean of both sides), as a camera sees it;
   the deflection amplitude is the deformation amplitude less it at HC.
@@ -35,6 +43,9 @@ import numpy as np
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "python"))
 from nct.clinic import NORMAL_TIMES  # noqa: E402
 from nct.folders import Run  # noqa: E402
+
+
+FLATNESS = 0.014  # mm: nct's default puff.flatness, one pixel of the 8 mm, 576-pixel image
 
 
 def read_profiles(run):
@@ -60,6 +71,54 @@ def at(t, profiles, time):
     s = (time - t[i]) / (t[i + 1] - t[i])
     (x0, y0), (x1, y1) = profiles[i], profiles[i + 1]
     return ((1 - s) * x0 + s * x1, (1 - s) * y0 + s * y1)
+
+
+def concavity_radius(p):
+    """The least-squares circle through the samples between the two highest
+    points (each refined by a parabola through its neighbours), or None."""
+    x, y = p
+    peaks = []
+    for side in (1, -1):
+        idx = np.where(side * x > 0)[0]
+        i = idx[np.argmax(y[idx])]
+        if 0 < i < len(x) - 1:
+            a, b, _ = np.polyfit(x[i - 1:i + 2], y[i - 1:i + 2], 2)
+            peaks.append(min(max(-b / (2 * a), x[i - 1]), x[i + 1]) if a != 0 else x[i])
+        else:
+            peaks.append(x[i])
+    right, left = peaks
+    y0 = height(p, 0.0)
+    if y0 >= min(height(p, right), height(p, left)):
+        return None
+    m = (x >= left) & (x <= right)
+    if m.sum() < 5:
+        return None
+    A = np.c_[2 * x[m], 2 * (y[m] - y0), np.ones(m.sum())]
+    a, b, c = np.linalg.lstsq(A, x[m] ** 2 + (y[m] - y0) ** 2, rcond=None)[0]
+    return float(np.sqrt(c + a * a + b * b)) if b > 0 else None
+
+
+def three_point_radius(p):
+    """The circle through the apex and the two highest points, or None."""
+    x, y = p
+    r, l = (np.where(x > 0)[0], np.where(x < 0)[0])
+    ir, il = r[np.argmax(y[r])], l[np.argmax(y[l])]
+    c, sag = 0.5 * (x[ir] - x[il]), 0.5 * (y[ir] + y[il]) - height(p, 0.0)
+    return (c * c + sag * sag) / (2 * sag) if sag > 0 else None
+
+
+def parabola_radius(p, window):
+    b = curvature(p, window)
+    return 1 / (2 * b) if b > 0 else None
+
+
+def integrated(t, profiles, a1, a2, radius, dt):
+    """The inverse radius summed from A1 to A2, time in frames."""
+    inv = [1 / r if r else 0.0 for r in (radius(q) for q in profiles)]
+    inside = [(ti, fi) for ti, fi in zip(t, inv) if a1 < ti < a2]
+    pts = [(a1, 0.0)] + inside + [(a2, 0.0)]
+    area = sum(0.5 * (f0 + f1) * (t1 - t0) for (t0, f0), (t1, f1) in zip(pts, pts[1:]))
+    return area / dt, max(inv)
 
 
 def flat_length(p, tolerance):
@@ -114,13 +173,17 @@ def main():
             ("deformation amplitude [mm]", deformation, summary.get("deformation_amplitude_mm")),
             ("A1 time [ms]", a1, summary.get("a1_time_ms")),
             ("A2 time [ms]", a2, summary.get("a2_time_ms")),
-            ("A1 length [mm]", flat_length(at(t, profiles, a1), 0.02) if a1 else None,
+            ("A1 length [mm]", flat_length(at(t, profiles, a1), FLATNESS) if a1 else None,
              summary.get("a1_length_mm")),
-            ("A2 length [mm]", flat_length(at(t, profiles, a2), 0.02) if a2 else None,
+            ("A2 length [mm]", flat_length(at(t, profiles, a2), FLATNESS) if a2 else None,
              summary.get("a2_length_mm"))]
-    b_hc = curvature(at(t, profiles, hc), 1.5)
-    rows.append(("HC radius [mm]", 1 / (2 * b_hc) if b_hc > 0 else None,
+    rows.append(("HC radius [mm]", concavity_radius(at(t, profiles, hc)),
                  summary.get("hc_radius_mm")))
+    dt = float(t[1] - t[0])
+    if a1 and a2:
+        ir, max_inv = integrated(t, profiles, a1, a2, concavity_radius, dt)
+        rows += [("integrated radius [1/mm]", ir, summary.get("integrated_radius_per_mm")),
+                 ("max inverse radius [1/mm]", max_inv, summary.get("max_inverse_radius_per_mm"))]
     disagree = []
     for name, mine, theirs in rows:
         f = (lambda v: "-" if v is None else f"{v:.4f}")
@@ -133,16 +196,45 @@ def main():
         print("\nApplanation length against the flatness tolerance:\n")
         print("| flatness [mm] | A1 length [mm] | A2 length [mm] |")
         print("|---|---|---|")
-        for tol in (0.005, 0.01, 0.02, 0.03, 0.05):
+        for tol in (0.005, 0.01, FLATNESS, 0.02, 0.03, 0.05):
             print(f"| {tol} | {flat_length(at(t, profiles, a1), tol):.3f} | "
                   f"{flat_length(at(t, profiles, a2), tol):.3f} |")
 
-    print("\nHC radius against the fit's half-width:\n")
-    print("| half-width [mm] | HC radius [mm] |")
-    print("|---|---|")
-    for w in (1.0, 1.5, 2.0, 2.5, 3.0):
-        b = curvature(at(t, profiles, hc), w)
-        print(f"| {w} | {'-' if b <= 0 else f'{1 / (2 * b):.3f}'} |")
+    print("\nThe concave radius against its rule: at HC, and each frame's inverse "
+          "radius summed from A1 to A2 (time in frames) and its largest:\n")
+    print("| rule | HC radius [mm] | integrated radius [1/mm] | max inverse radius [1/mm] |")
+    print("|---|---|---|---|")
+    rules = [("circle over the concavity (nct)", concavity_radius),
+             ("circle through the apex and the peaks", three_point_radius)]
+    rules += [(f"parabola over +-{w} mm", (lambda q, w=w: parabola_radius(q, w)))
+              for w in (1.0, 1.5, 2.0, 2.5, 3.0)]
+    f = (lambda v: "-" if v is None else f"{v:.3f}")
+    for name, rule in rules:
+        ir = integrated(t, profiles, a1, a2, rule, dt) if a1 and a2 else (None, None)
+        print(f"| {name} | {f(rule(at(t, profiles, hc)))} | {f(ir[0])} | {f(ir[1])} |")
+
+    print("\nThe DA ratio against its time window (deformations in fixed image columns "
+          "from the first frame):\n")
+    print("| window | DA ratio 1 mm | DA ratio 2 mm |")
+    print("|---|---|---|")
+
+    def ratios(keep):
+        out = []
+        for d in (1.0, 2.0):
+            best = None
+            for ti, q in zip(t, profiles):
+                flank = 0.5 * (height(rest, d) + height(rest, -d) - height(q, d) - height(q, -d))
+                if keep(ti, flank) and flank > 0:
+                    r = (height(rest, 0.0) - height(q, 0.0)) / flank
+                    best = r if best is None else max(best, r)
+            out.append(best)
+        return out
+    windows = [("A1 to A2 (nct)", lambda ti, fl: a1 is not None and a1 <= ti <= a2),
+               ("the frame nearest HC", lambda ti, fl: abs(ti - t[hc_i]) < 1e-9),
+               ("every frame, flanks moved > 0.02 mm", lambda ti, fl: fl > 0.02)]
+    for name, keep in windows:
+        r1, r2 = ratios(keep)
+        print(f"| {name} | {f(r1)} | {f(r2)} |")
 
     print("\nWhole-eye movement read in the image columns x = +-d:\n")
     print("| d [mm] | movement at HC [mm, + outwards] | largest inward [mm] | at [ms] | "

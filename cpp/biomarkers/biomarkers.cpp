@@ -151,6 +151,62 @@ std::optional<double> concave_radius(const Profile& p, double half_width)
   return 1 / (2 * b);
 }
 
+std::optional<double> concavity_radius(const Profile& p)
+{
+  const double right = highest(p, [](double x) { return x > 0; });
+  const double left = highest(p, [](double x) { return x < 0; });
+  const double y0 = height(p, 0.0);
+  if (y0 >= std::min(height(p, right), height(p, left)))
+    return std::nullopt;
+  // Kasa's fit: x^2 + y^2 = 2 a x + 2 b y + c, linear least squares for
+  // (a, b, c); the radius sqrt(c + a^2 + b^2). Centred on the first sample
+  // inside, for conditioning.
+  double A[3][3] = {}, r[3] = {};
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < p.x.size(); ++i)
+    if (p.x[i] >= left && p.x[i] <= right)
+    {
+      const double x = p.x[i], y = p.y[i] - y0, row[3] = {2 * x, 2 * y, 1.0};
+      for (int j = 0; j < 3; ++j)
+      {
+        for (int k = 0; k < 3; ++k)
+          A[j][k] += row[j] * row[k];
+        r[j] += row[j] * (x * x + y * y);
+      }
+      ++n;
+    }
+  if (n < 5)
+    return std::nullopt;
+  // Cramer's rule on the 3x3 normal equations.
+  auto det = [](const double M[3][3])
+  {
+    return M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1])
+           - M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0])
+           + M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0]);
+  };
+  const double D = det(A);
+  if (D <= 0)
+    return std::nullopt;
+  double c[3];
+  for (int j = 0; j < 3; ++j)
+  {
+    double M[3][3];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        M[a][b] = b == j ? r[a] : A[a][b];
+    c[j] = det(M) / D;
+  }
+  if (c[1] <= 0) // the centre behind the apex: convex
+    return std::nullopt;
+  return std::sqrt(c[2] + c[0] * c[0] + c[1] * c[1]);
+}
+
+std::optional<double> concave_radius(const Profile& p, const Definitions& d)
+{
+  return d.radius_rule == RadiusRule::concavity ? concavity_radius(p)
+                                                : concave_radius(p, d.radius_window);
+}
+
 std::optional<double> da_ratio(const Profile& rest, const Profile& p, double d)
 {
   auto deformation = [&](double x) { return height(rest, x) - height(p, x); };
@@ -187,8 +243,7 @@ double at_time(const std::vector<double>& t, const std::vector<double>& f, doubl
 
 Result analyse(const std::vector<double>& t, const std::vector<Profile>& anterior,
                const std::vector<double>& apex_displacement,
-               const std::vector<double>& whole_eye_motion, double half_width,
-               double radius_window, double flatness)
+               const std::vector<double>& whole_eye_motion, const Definitions& d)
 {
   const std::size_t n = t.size();
   if (n < 3 || anterior.size() != n || apex_displacement.size() != n
@@ -205,7 +260,7 @@ Result analyse(const std::vector<double>& t, const std::vector<Profile>& anterio
   r.deformation_amplitude = -deepest;
   r.deflection_amplitude = -(deepest - at_time(t, whole_eye_motion, hc_time));
   r.peak_distance = peak_distance(anterior[hc]);
-  r.hc_radius = concave_radius(profile_at(t, anterior, hc_time), radius_window);
+  r.hc_radius = concave_radius(profile_at(t, anterior, hc_time), d);
 
   // The largest inward whole-eye motion, refined like HC.
   std::vector<double> inward(n);
@@ -224,17 +279,17 @@ Result analyse(const std::vector<double>& t, const std::vector<Profile>& anterio
     const std::size_t a = i == 0 ? 0 : i - 1, b = i + 1 == n ? i : i + 1;
     velocity[i] = (apex_displacement[b] - apex_displacement[a]) / (t[b] - t[a]);
   }
-  std::vector<double> curvature(n), inverse_radius(n), concavity(n);
+  std::vector<double> curvature(n), inverse_radius(n);
   for (std::size_t i = 0; i < n; ++i)
   {
-    curvature[i] = apex_curvature(anterior[i], half_width);
-    concavity[i] = apex_curvature(anterior[i], radius_window);
-    inverse_radius[i] = std::max(2 * concavity[i], 0.0);
+    curvature[i] = apex_curvature(anterior[i], d.apex_window);
+    const auto radius = concave_radius(anterior[i], d);
+    inverse_radius[i] = radius ? 1 / *radius : 0.0;
   }
   r.max_inverse_radius = *std::max_element(inverse_radius.begin(), inverse_radius.end());
   auto applanation = [&](double time)
   {
-    return Applanation{time, flat_length(profile_at(t, anterior, time), flatness),
+    return Applanation{time, flat_length(profile_at(t, anterior, time), d.flatness),
                        at_time(t, velocity, time),
                        -(at_time(t, apex_displacement, time) - at_time(t, whole_eye_motion, time))};
   };
@@ -246,13 +301,11 @@ Result analyse(const std::vector<double>& t, const std::vector<Profile>& anterio
     return r;
   r.a1 = applanation(*a1);
   r.a2 = applanation(*a2);
-  // The ends from the fitted curvature at A1 and A2, linear in time and
-  // clipped: 0 at applanation when both windows agree.
-  auto inverse_radius_at = [&](double time)
-  { return std::max(2 * at_time(t, concavity, time), 0.0); };
-  r.integrated_inverse_radius = integral(t, inverse_radius, r.a1.time,
-                                         inverse_radius_at(r.a1.time), r.a2.time,
-                                         inverse_radius_at(r.a2.time));
+  // The area under the inverse radius with time in frames (the device's
+  // unit: its integrated radius is in 1/mm): trapezoids over the frames
+  // inside, from 0 at A1 and to 0 at A2 (flat: no curvature).
+  r.integrated_radius = integral(t, inverse_radius, r.a1.time, 0.0, r.a2.time, 0.0)
+                        / d.frame_interval;
   // The concave phase: the DA ratio is ill-conditioned while the flanks barely move.
   for (std::size_t i = 0; i < n; ++i)
     if (t[i] >= r.a1.time && t[i] <= r.a2.time)

@@ -1,9 +1,12 @@
 // Corvis biomarkers (docs/physics.md section 9) from sampled corneal profiles
 // and apex time series. Pure functions of the samples: every rank that
 // holds the same samples gets the same answer. The dynamic corneal
-// response (DCR) parameters follow Vinciguerra et al., J Refract Surg
-// 2016;32(8):550-561 (DA ratio, integrated inverse radius) and Roberts et
-// al., J Refract Surg 2017;33(4):266-273 (SP-A1).
+// response (DCR) parameters follow the device's published definitions
+// (docs/physics.md, "The device's definitions": Vinciguerra et al., J
+// Refract Surg 2016;32(8):550-561 and 32(12):803-810 for the DA ratio and
+// the integrated radius; Roberts et al., J Refract Surg 2017;33(4):266-273
+// for SP-A1); where the device's rule is not published, Definitions holds
+// the choice.
 #pragma once
 
 #include <optional>
@@ -43,15 +46,44 @@ double apex_curvature(const Profile& p, double half_width);
 /// apex_curvature over |x| <= half_width; none unless b > 0 (concave).
 std::optional<double> concave_radius(const Profile& p, double half_width);
 
+/// Radius [mm] of the circle fitted by least squares (Kasa's algebraic
+/// fit) to the samples between the highest points on either side of the
+/// axis: the whole concavity, wherever its rim lies. None unless the
+/// profile is concave there (the apex below both peaks, the circle's
+/// centre on the outer side) with at least five samples.
+std::optional<double> concavity_radius(const Profile& p);
+
+/// How the concave radius of a profile is read: the circle over the whole
+/// concavity (concavity_radius), or the parabola over a fixed window
+/// (concave_radius). The device publishes neither.
+enum class RadiusRule
+{
+  concavity,
+  window
+};
+
+/// The choices the device does not publish (docs/physics.md section 9).
+struct Definitions
+{
+  double apex_window = 1.0;   ///< [mm] applanation: the apex curvature's fit, |x| <= this
+  RadiusRule radius_rule = RadiusRule::concavity; ///< the HC and inverse concave radius
+  double radius_window = 1.5; ///< [mm] the window of RadiusRule::window
+  double flatness = 0.014;    ///< [mm] applanation length: flat within this of the apex
+  double frame_interval = 1 / 4.33; ///< [ms] between the device's frames (4330/s)
+};
+
+/// The concave radius [mm] of a profile by `d`'s rule; none unless concave.
+std::optional<double> concave_radius(const Profile& p, const Definitions& d);
+
 /// Corvis' DA ratio at d [mm]: the deformation on the axis over the mean
 /// deformation at x = +d and -d, the deformation being rest(x) - p(x) at
 /// the fixed image column x (linear between samples); none unless that
 /// mean is positive.
 std::optional<double> da_ratio(const Profile& rest, const Profile& p, double d);
 
-/// Stiffness parameter at A1 [mmHg/mm] (Roberts et al. 2017): the apex air
-/// pressure at A1 less the IOP at rest [mmHg], over the deflection at A1
-/// [mm]; none unless the deflection is positive.
+/// Stiffness parameter at A1 [mmHg/mm] (Roberts et al. 2017): the device's
+/// air pressure at A1 less the IOP (the device: its bIOP) [mmHg], over the
+/// deflection at A1 [mm]; none unless the deflection is positive.
 std::optional<double> stiffness_parameter_a1(double pressure, double iop, double deflection);
 
 /// Times [ms] at which f(t) crosses zero, linear between samples; `upward`
@@ -82,8 +114,9 @@ struct Result
   bool applanated = false;         ///< both A1 and A2 were found
   std::optional<double> hc_radius; ///< [mm] concave radius at HC; none if not concave
   double max_inverse_radius = 0;   ///< [1/mm] largest inverse concave radius of the frames
-  /// [ms/mm] the inverse concave radius integrated from A1 to A2 (when applanated)
-  std::optional<double> integrated_inverse_radius;
+  /// [1/mm] the integrated radius: the area under the inverse concave
+  /// radius from A1 to A2 with time counted in frames (when applanated)
+  std::optional<double> integrated_radius;
   double whole_eye_movement_max = 0; ///< [mm] largest inward whole-eye motion, 0 if none
   std::optional<double> whole_eye_movement_time; ///< [ms] its time; none if never inward
   /// Largest DA ratios at 1 and 2 mm of the frames from A1 to A2 (when applanated)
@@ -99,13 +132,13 @@ struct Result
 /// the anterior profiles, the apex axial displacement (+ outwards) and the
 /// whole-eye motion (mean axial displacement of the anterior surface at
 /// +-4 mm). Applanation is where the apex curvature (fitted over
-/// |x| <= half_width) changes sign; its length uses `flatness` [mm]. The
-/// HC radius (the profile linear in time at HC) and the inverse concave
-/// radius are fitted over |x| <= radius_window [mm]; the DA ratio's
-/// deformations are from the first frame.
+/// |x| <= d.apex_window) changes sign; its length uses d.flatness. The HC
+/// radius (the profile linear in time at HC) and each frame's inverse
+/// concave radius follow d.radius_rule; the integrated radius counts time
+/// in d.frame_interval; the DA ratio's deformations are from the first
+/// frame.
 Result analyse(const std::vector<double>& t, const std::vector<Profile>& anterior,
                const std::vector<double>& apex_displacement,
-               const std::vector<double>& whole_eye_motion, double half_width,
-               double radius_window, double flatness);
+               const std::vector<double>& whole_eye_motion, const Definitions& d);
 
 } // namespace nct::biomarkers

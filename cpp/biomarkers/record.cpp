@@ -227,8 +227,9 @@ std::string Record::profiles_csv() const
   return out.str();
 }
 
-Result Record::analyse(double apex_window, double radius_window, double flatness) const
+Result Record::analyse(Definitions d) const
 {
+  d.frame_interval = _frame_interval;
   std::vector<double> t, apex_u, whole;
   std::vector<Profile> anterior;
   for (const auto& f : _frames)
@@ -238,7 +239,7 @@ Result Record::analyse(double apex_window, double radius_window, double flatness
     apex_u.push_back(apex(f));
     whole.push_back(whole_eye(f));
   }
-  return biomarkers::analyse(t, anterior, apex_u, whole, apex_window, radius_window, flatness);
+  return biomarkers::analyse(t, anterior, apex_u, whole, d);
 }
 
 std::vector<double> Record::column(const std::string& name) const

@@ -58,8 +58,9 @@ public:
   /// posterior), x_mm, y_mm (the full section, mirrored).
   std::string profiles_csv() const;
 
-  /// The biomarkers of the frames (see biomarkers::analyse).
-  Result analyse(double apex_window, double radius_window, double flatness) const;
+  /// The biomarkers of the frames (see biomarkers::analyse), time in
+  /// frames counted at the record's own frame rate.
+  Result analyse(Definitions d) const;
   /// A known or state column at time t [ms] of the frames (linear in between).
   double at(const std::string& column, double t) const;
   /// The largest value of a known or state column over the frames.

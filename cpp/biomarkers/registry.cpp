@@ -35,12 +35,14 @@ const std::vector<Entry>& registry()
       {"iop_max_mmHg", "mmHg", "the largest IOP under the puff (the first cavity: the aqueous "
                                "one with the internal structures)", true},
       {"iop_hc_mmHg", "mmHg", "the IOP at HC", true},
-      {"hc_radius_mm", "mm", "the radius 1/(2b) of y = a + b x^2 fitted over |x| <= "
-                             "puff.radius_window at HC (when concave)", true},
-      {"max_inverse_radius_per_mm", "1/mm", "the largest inverse concave radius 2b over the "
+      {"hc_radius_mm", "mm", "the concave radius at HC by puff.radius_rule: the circle over "
+                             "the concavity between the two peaks (or the parabola over |x| <= "
+                             "puff.radius_window); when concave", true},
+      {"max_inverse_radius_per_mm", "1/mm", "the largest inverse concave radius over the "
                                             "frames", true},
-      {"integrated_inverse_radius_ms_per_mm", "ms/mm", "the inverse concave radius integrated "
-                                                       "over time from A1 to A2", true},
+      {"integrated_radius_per_mm", "1/mm", "the integrated radius: the area under the inverse "
+                                           "concave radius from A1 to A2, time counted in "
+                                           "frames (the device's unit)", true},
       {"whole_eye_movement_max_mm", "mm", "the largest inward whole-eye motion (0 if it never "
                                           "moves in)", true},
       {"whole_eye_movement_time_ms", "ms", "the time of the largest inward whole-eye motion",
@@ -52,8 +54,10 @@ const std::vector<Entry>& registry()
       {"a1_hc_interval_ms", "ms", "from A1 to HC", true},
       {"a1_deflection_mm", "mm", "the apex's deflection at A1", true},
       {"a2_deflection_mm", "mm", "the apex's deflection at A2", true},
-      {"sp_a1_mmHg_per_mm", "mmHg/mm", "stiffness parameter at A1: (apex air pressure at A1 - "
-                                       "IOP at t = 0) / the deflection at A1", true},
+      {"sp_a1_mmHg_per_mm", "mmHg/mm", "stiffness parameter at A1: (the device's pressure at "
+                                       "A1 - the IOP at t = 0) / the deflection at A1; the "
+                                       "device's pressure is the prescribed apex pressure, or "
+                                       "the pulse the inlet was calibrated to", true},
       {"<cavity>_pressure_max_mmHg", "mmHg", "a cavity's largest pressure over the steps "
                                              "(cavity; aqueous, vitreous)", true},
       {"humor_pressure_range_max_mmHg", "mmHg", "with the humor's flow: the largest range of "

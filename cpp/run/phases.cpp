@@ -81,6 +81,22 @@ double record_solid_step(RunState& s, SolidBlock& solid, nlohmann::json step, do
   return axial;
 }
 
+/// The device's air pressure at the apex at time t [mmHg]: what its own
+/// pressure curve says, whatever the cornea does (SP-A1 takes it). A
+/// prescribed load's apex pressure; for the computed air, the history the
+/// inlet was calibrated to: the measured pulse, or the Gaussian.
+double device_pressure(const Settings& settings, const biomarkers::Record& frames, double t)
+{
+  const PuffSettings& p = settings.puff;
+  if (p.prescribed())
+    return frames.at("apex_air_pressure_mmHg", t);
+  if (settings.air.inlet.pulse)
+    return p.peak
+           * puff::PulseShape::from_descriptors(p.rise_rate / p.peak, p.fall_rate / p.peak,
+                                                p.pulse_duration)(t);
+  return p.peak * std::exp(-0.5 * std::pow((t - p.peak_time) / p.width_t, 2));
+}
+
 /// The puff's biomarkers (docs/physics.md sections 9-10) into the summary.
 void summarise_puff(RunState& s, const SolidBlock& solid)
 {
@@ -88,7 +104,7 @@ void summarise_puff(RunState& s, const SolidBlock& solid)
   const PuffSettings& puff = s.settings.puff;
   nlohmann::json& summary = s.summary;
   using biomarkers::put;
-  const auto r = frames.analyse(puff.apex_window, puff.radius_window, puff.flatness);
+  const auto r = frames.analyse(puff.definitions);
   summary["frames"] = frames.frames();
   put(summary, "hc_time_ms", r.hc_time);
   put(summary, "deformation_amplitude_mm", r.deformation_amplitude);
@@ -112,7 +128,7 @@ void summarise_puff(RunState& s, const SolidBlock& solid)
     }
     put(summary, "a1_a2_interval_ms", r.a1_a2_interval());
     put(summary, "a1_hc_interval_ms", r.a1_hc_interval());
-    put(summary, "integrated_inverse_radius_ms_per_mm", *r.integrated_inverse_radius);
+    put(summary, "integrated_radius_per_mm", *r.integrated_radius);
   }
   for (auto [key, ratio] :
        {std::pair{"da_ratio_1mm", &r.da_ratio_1mm}, {"da_ratio_2mm", &r.da_ratio_2mm}})
@@ -128,7 +144,7 @@ void summarise_puff(RunState& s, const SolidBlock& solid)
     put(summary, "iop_hc_mmHg", frames.at(cavities[0] + "_pressure_mmHg", r.hc_time));
     if (r.applanated)
       sp_a1 = biomarkers::stiffness_parameter_a1(
-          frames.at("apex_air_pressure_mmHg", r.a1.time),
+          device_pressure(s.settings, frames, r.a1.time),
           frames.at(cavities[0] + "_pressure_mmHg", 0.0), r.a1.deflection);
   }
   if (sp_a1)
@@ -141,9 +157,9 @@ void summarise_puff(RunState& s, const SolidBlock& solid)
     text += format(", HC radius %.3f mm", *r.hc_radius);
   if (r.applanated)
     text += format("; A1 %.3f ms %.3f mm %+.3f m/s; A2 %.3f ms %.3f mm %+.3f m/s; "
-                   "A1 deflection %.4f mm; integrated 1/R %.3f ms/mm",
+                   "A1 deflection %.4f mm; integrated radius %.3f /mm",
                    r.a1.time, r.a1.length, r.a1.apex_velocity, r.a2.time, r.a2.length,
-                   r.a2.apex_velocity, r.a1.deflection, *r.integrated_inverse_radius);
+                   r.a2.apex_velocity, r.a1.deflection, *r.integrated_radius);
   else
     text += "; the cornea did not applanate twice (no A1/A2)";
   if (r.da_ratio_2mm)

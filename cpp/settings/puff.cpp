@@ -71,17 +71,28 @@ void visit(scene::Visitor& v, PuffSettings& s)
   v.real({"puff.frame_rate", "4330.0", "1/s", 100, 1e5,
           "rate at which the corneal profiles are sampled (Corvis ST: 4330 frames/s)", frames},
          s.frame_rate);
+  // The device's unpublished choices (docs/physics.md section 9).
+  biomarkers::Definitions& d = s.definitions;
   v.real({"puff.apex_window", "1.0", "mm", 0.05, 5,
           "applanation: the apex curvature is fitted over |x| <= this", frames},
-         s.apex_window);
+         d.apex_window);
+  using R = biomarkers::RadiusRule;
+  v.choice({"puff.radius_rule", "concavity", "", -inf, inf,
+            "the HC radius and each frame's inverse concave radius: concavity = the circle "
+            "fitted to the profile between its two highest points (the whole concavity); "
+            "window = the parabola fitted over |x| <= puff.radius_window (the device publishes "
+            "neither)",
+            frames},
+           d.radius_rule, {{"concavity", R::concavity}, {"window", R::window}});
   v.real({"puff.radius_window", "1.5", "mm", 0.1, 5,
-          "the HC radius and the inverse concave radius are fitted over |x| <= this", frames},
-         s.radius_window);
-  v.real({"puff.flatness", "0.02", "mm", 1e-6, 1,
+          "the parabola's half-width for puff.radius_rule = \"window\"",
+          "puff.load=gaussian|pulse|table|fsi,puff.radius_rule=window"},
+         d.radius_window);
+  v.real({"puff.flatness", "0.014", "mm", 1e-6, 1,
           "applanation length: the profile is flat where it stays within this of its height on "
-          "the axis",
+          "the axis (0.014 mm: one pixel of the device's 576-pixel, 8 mm wide image)",
           frames},
-         s.flatness);
+         d.flatness);
 }
 
 } // namespace nct

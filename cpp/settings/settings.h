@@ -14,6 +14,7 @@
 #include <mpi.h>
 
 #include "air/domain.h"
+#include "biomarkers/biomarkers.h"
 #include "air/problem.h"
 #include "dynamics/time_step.h"
 #include "eye/geometry.h"
@@ -165,8 +166,8 @@ struct PuffSettings
   double peak_time, width_t; ///< [ms]
   double width_r;            ///< [mm]
   std::filesystem::path table;
-  double frame_rate;                             ///< [1/s]
-  double apex_window, radius_window, flatness; ///< [mm]
+  double frame_rate;                 ///< [1/s]
+  biomarkers::Definitions definitions; ///< the DCR parameters' unpublished choices
   /// The load is a pressure prescribed on the pressed surface.
   bool prescribed() const { return load == Load::gaussian || load == Load::pulse || load == Load::table; }
 };

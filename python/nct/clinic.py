@@ -1,21 +1,36 @@
-"""A run's Corvis parameters against the clinical norms of normal eyes.
+"""A run's Corvis parameters against two populations of measured eyes.
 
-Sources (docs/physics.md section 9): 1,304 normal eyes, Corvis ST
-(PMC7001013; IOP 16.8 +- 2.9 mmHg); the whole-eye movement's time: 68
-healthy eyes (doi:10.21203/rs.3.rs-9226844/v1). Times are on the device's
-clock, whose zero lies an unknown time before a run's pulse onset; the
-intervals' SDs are taken from the two times' SDs as if independent (an
-upper bound).
+- REAL_EYES: 202 eyes of 194 cataract patients (age 69 +- 9), each
+  measured once by a Corvis ST whose software reports the DCR parameters,
+  the CBI and the SSI (so 2019 or later): cases/real-eyes/all_eyes.csv,
+  from the public de-identified cohort of GitHub
+  Usama1002/corneal-biomechanical-prediction-model (CC-BY-4.0; see
+  cases/real-eyes/README.md). Its mean and SD per column.
+- NORMAL_EYES: 1,304 healthy eyes of refractive-surgery candidates (age
+  28 +- 5; PMC7001013, IOP 16.8 +- 2.9 mmHg), software not stated; the
+  whole-eye movement's time from 68 healthy eyes
+  (doi:10.21203/rs.3.rs-9226844/v1). Times are on the device's clock,
+  whose zero lies an unknown time before a run's pulse onset; the
+  intervals' SDs are taken from the two times' SDs as if independent (an
+  upper bound).
+
+The two disagree beyond their SDs on the A2 velocity and the applanation
+lengths: their software's definitions differ (docs/physics.md section 9).
 
     rows = z_scores(summary)      # (name, value, unit, (mean, SD) or None, z or None)
+    rows = compare(summary)       # (name, value, unit, {population: (norm, z)})
     print(markdown(summary))
     value, inputs = cbi(summary)  # the Corvis Biomechanical Index, or None and why
 
 Units are the biomarker registry's (nct.biomarkers).
 """
+import csv
 import math
+import pathlib
 
 from . import biomarkers
+
+REAL_EYES_CSV = pathlib.Path(__file__).resolve().parents[2] / "cases" / "real-eyes" / "all_eyes.csv"
 
 A1, HC, A2 = (7.36, 0.39), (16.84, 0.64), (20.13, 0.48)
 # Normal eyes' mean times [ms] (device clock).
@@ -49,35 +64,109 @@ ROWS = [
     ("da_ratio_1mm", "DA ratio 1 mm", None, 1),
     ("da_ratio_2mm", "DA ratio 2 mm", None, 1),
     ("max_inverse_radius_per_mm", "max inverse concave radius", None, 1),
-    ("integrated_inverse_radius_ms_per_mm", "integrated inverse radius", None, 1),
+    ("integrated_radius_per_mm", "integrated radius", None, 1),
     ("a1_deflection_mm", "deflection amplitude at A1", None, 1),
     ("sp_a1_mmHg_per_mm", "SP-A1", None, 1),
     ("iop_max_mmHg", "IOP, max under the puff", None, 1),
 ]
 
 
-def z_scores(summary):
+# The real eyes' columns (cases/real-eyes/README.md) for the summary's keys.
+REAL_EYES_COLUMNS = {
+    "deformation_amplitude_mm": "HCDA", "a1_length_mm": "AL1", "a1_velocity_m_s": "AV1",
+    "a2_length_mm": "AL2", "a2_velocity_m_s": "AV2", "peak_distance_mm": "PD",
+    "hc_radius_mm": "HCR", "da_ratio_2mm": "DA_Ratio", "integrated_radius_per_mm": "IR",
+    "sp_a1_mmHg_per_mm": "SPA1"}
+
+# The clinic signs velocities + inwards; a run + outwards.
+_SIGN = {"a1_velocity_m_s": -1, "a2_velocity_m_s": -1}
+
+# The ten readings the real eyes hold that are not times on the device's clock.
+SHAPE_AND_SPEED = list(REAL_EYES_COLUMNS)
+
+# What each population's value is, where its definition is known to differ.
+SOURCES = {
+    "a1_length_mm": "real eyes 2.36 against 1.82 in PMC7001013: the flatness rule differs "
+                    "between software versions (early software reported a 'maximum' length)",
+    "a2_length_mm": "real eyes 2.31 against 1.34: as the A1 length",
+    "a2_velocity_m_s": "real eyes -0.264 against -0.67: the older software detects A2 earlier, "
+                       "while the apex still returns fast",
+    "hc_radius_mm": "a fit region neither publishes; 11.1 mm in 2014 software (Valbon et al., "
+                    "J. Refract. Surg. 30 (2014) 468)",
+    "integrated_radius_per_mm": "the device's unit: time counted in frames",
+}
+
+
+def real_eyes(path=REAL_EYES_CSV):
+    """{summary key: (mean, SD)} of the real eyes, on the clinic's sign."""
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    norms = {}
+    for key, column in REAL_EYES_COLUMNS.items():
+        v = [float(r[column]) for r in rows if r[column] not in ("", "nan")]
+        mean = sum(v) / len(v)
+        norms[key] = (mean, math.sqrt(sum((x - mean) ** 2 for x in v) / (len(v) - 1)))
+    return norms
+
+
+_REAL_EYES = None
+
+
+def _real_eyes():
+    global _REAL_EYES
+    if _REAL_EYES is None:
+        _REAL_EYES = real_eyes()
+    return _REAL_EYES
+
+
+def compare(summary):
     """Per parameter the run has: (name, value on the clinic's sign, unit,
-    the norm (mean, SD) or None, z = (value - mean) / SD or None)."""
+    {"real eyes": ((mean, SD), z) or None, "normal eyes": ... or None})."""
     rows = []
     for key, name, norm, scale in ROWS:
         if key in summary:
             value = scale * summary[key]
-            z = (value - norm[0]) / norm[1] if norm else None
-            rows.append((name, value, biomarkers.unit(key), norm, z))
+            real = _real_eyes().get(key)
+            rows.append((name, value, biomarkers.unit(key), {
+                "real eyes": (real, (value - real[0]) / real[1]) if real else None,
+                "normal eyes": (norm, (value - norm[0]) / norm[1]) if norm else None}))
     return rows
 
 
+def z_scores(summary, population="normal eyes"):
+    """Per parameter the run has: (name, value on the clinic's sign, unit,
+    the population's norm (mean, SD) or None, z = (value - mean) / SD or
+    None); population "real eyes" or "normal eyes"."""
+    return [(name, value, unit, *(against[population] or (None, None)))
+            for name, value, unit, against in compare(summary)]
+
+
+def within(summary, sds=2.0):
+    """The ten shape and speed readings against the real eyes: (within
+    `sds` SD, of how many the run has)."""
+    real = _real_eyes()
+    inside = [key for key in SHAPE_AND_SPEED if key in summary
+              and abs(_SIGN.get(key, 1) * summary[key] - real[key][0]) <= sds * real[key][1]]
+    return len(inside), sum(key in summary for key in SHAPE_AND_SPEED)
+
+
 def markdown(summary):
-    """The table: parameter, run, normal eyes (mean +- SD), z."""
-    lines = ["| parameter | run | normal eyes (mean +- SD) | z |", "|---|---|---|---|"]
-    for name, value, unit, norm, z in z_scores(summary):
+    """The table: parameter, run, the real eyes (mean +- SD) and z, normal
+    eyes (mean +- SD) and z."""
+    lines = ["| parameter | run | 202 real eyes (mean +- SD) | z | normal eyes, PMC7001013 "
+             "(mean +- SD) | z |", "|---|---|---|---|---|---|"]
+    for name, value, unit, against in compare(summary):
         u = f" {unit}" if unit else ""
-        if norm:
-            lines.append(f"| {name} | {value:.4g}{u} | {norm[0]:.4g} +- {norm[1]:.2g}{u} "
-                         f"| {z:+.1f} |")
-        else:
-            lines.append(f"| {name} | {value:.4g}{u} | no verified norm | |")
+        cells = []
+        for population in ("real eyes", "normal eyes"):
+            if against[population]:
+                (mean, sd), z = against[population]
+                cells += [f"{mean:.4g} +- {sd:.2g}{u}", f"{z:+.1f}"]
+            else:
+                cells += ["-", ""]
+        lines.append(f"| {name} | {value:.4g}{u} | " + " | ".join(cells) + " |")
+    n, of = within(summary)
+    lines += ["", f"Within 2 SD of the real eyes: {n} of the {of} shape and speed readings."]
     return "\n".join(lines)
 
 

@@ -50,16 +50,19 @@ class Pages(unittest.TestCase):
 
     def test_dcr_flags_beyond_two_sd_but_not_clock_times(self):
         folder = write_run(self.root / "run")
-        # deformation 1.30 mm: z = +2.5; A1 velocity 0.19 m/s inwards: z = +1.75; the A1
-        # time 0.5 ms: z = -17.6, but on the device's clock
-        summary = dict(SUMMARY, deformation_amplitude_mm=1.30, a1_velocity_m_s=-0.19)
+        # deformation 1.30 mm: z = +2.2 (real eyes), +2.5 (normal eyes); A1 velocity 0.16
+        # m/s inwards: z = +1.0 and +1.0; the A1 time 0.5 ms: z = -17.6 (normal eyes), but on
+        # the device's clock
+        summary = dict(SUMMARY, deformation_amplitude_mm=1.30, a1_velocity_m_s=-0.16)
         (folder / "summary.json").write_text(json.dumps(summary))
         text = report.write(folder).read_text()
         dcr = text.split('<section id="dcr">')[1].split("</section>")[0]
         flagged = [row for row in dcr.split("<tr") if 'class="flag"' in row]
         self.assertEqual(len(flagged), 1)
         self.assertIn("deformation amplitude", flagged[0])
-        self.assertIn("beyond 2 SD if the clocks agreed", dcr)
+        self.assertIn("beyond 2 SD of the real eyes and the normal eyes", flagged[0])
+        self.assertIn("beyond 2 SD of the normal eyes if the clocks agreed", dcr)
+        self.assertIn("Within 2 SD of the real eyes: 1 of the 2 readings", dcr)
 
     def test_coupled_run_shows_its_energy_balance(self):
         folder = write_run(self.root / "run")

@@ -28,6 +28,23 @@ class Reports(unittest.TestCase):
         self.assertNotIn("A2 time (device clock)", rows)  # not in the summary
         self.assertIn("| A1 to HC |", clinic.markdown(dict(SUMMARY, a1_hc_interval_ms=9.48)))
 
+    def test_real_eyes(self):
+        # The 202 eyes' statistics as their release states them (cases/real-eyes/README.md).
+        norms = clinic.real_eyes()
+        for key, mean, sd in (("deformation_amplitude_mm", 1.060, 0.109),
+                              ("a2_velocity_m_s", -0.264, 0.035), ("hc_radius_mm", 8.06, 1.06),
+                              ("da_ratio_2mm", 4.10, 0.39), ("integrated_radius_per_mm", 7.63, 1.02),
+                              ("sp_a1_mmHg_per_mm", 114.2, 16.6)):
+            self.assertAlmostEqual(norms[key][0], mean, delta=0.005 * abs(mean))
+            self.assertAlmostEqual(norms[key][1], sd, delta=0.01 * sd + 0.001)
+        # 1.15 mm: z = +0.83 against the real eyes, +1.0 against the normal eyes; the A1
+        # velocity 0.2 m/s inwards: +2.8 against the real eyes.
+        rows = {name: against for name, _, _, against in clinic.compare(SUMMARY)}
+        self.assertAlmostEqual(rows["deformation amplitude"]["real eyes"][1],
+                               (1.15 - norms["deformation_amplitude_mm"][0])
+                               / norms["deformation_amplitude_mm"][1])
+        self.assertEqual(clinic.within(SUMMARY), (1, 2))
+
     def test_timing(self):
         head, rows = timing.phases(SUMMARY)
         self.assertEqual([r[0] for r in rows], ["set-up", "puff", "total"])
