@@ -116,6 +116,11 @@ TEST(Biomarkers, ConcavityRadius)
     nct::biomarkers::Definitions d; // the rule by default: the whole concavity
     EXPECT_NEAR(*nct::biomarkers::concave_radius(p, d), Rc, 1e-9);
   }
+  // A concavity shallower than the depth asked (the flatness) is flat: the
+  // arc's sag to the rims is Rc - sqrt(Rc^2 - a^2) = 0.3717 mm.
+  auto p = sample(0.013, dent, 0.0039);
+  EXPECT_TRUE(nct::biomarkers::concavity_radius(p, 0.36)); // the rims read within a sample
+  EXPECT_FALSE(nct::biomarkers::concavity_radius(p, 0.38));
   // A cornea only pushed flatter (convex) or not at all has no concavity.
   auto convex = sample(0.05, [](double x) { return -x * x / (2 * 7.8); }, 0.013);
   EXPECT_FALSE(nct::biomarkers::concavity_radius(convex));

@@ -73,9 +73,11 @@ def at(t, profiles, time):
     return ((1 - s) * x0 + s * x1, (1 - s) * y0 + s * y1)
 
 
-def concavity_radius(p):
+def concavity_radius(p, depth=None):
     """The least-squares circle through the samples between the two highest
-    points (each refined by a parabola through its neighbours), or None."""
+    points (each refined by a parabola through its neighbours), or None
+    unless the apex lies more than `depth` (the flatness) below both."""
+    depth = FLATNESS if depth is None else depth
     x, y = p
     peaks = []
     for side in (1, -1):
@@ -88,7 +90,7 @@ def concavity_radius(p):
             peaks.append(x[i])
     right, left = peaks
     y0 = height(p, 0.0)
-    if y0 >= min(height(p, right), height(p, left)):
+    if y0 + depth >= min(height(p, right), height(p, left)):
         return None
     m = (x >= left) & (x <= right)
     if m.sum() < 5:

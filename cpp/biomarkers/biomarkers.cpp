@@ -151,12 +151,12 @@ std::optional<double> concave_radius(const Profile& p, double half_width)
   return 1 / (2 * b);
 }
 
-std::optional<double> concavity_radius(const Profile& p)
+std::optional<double> concavity_radius(const Profile& p, double depth)
 {
   const double right = highest(p, [](double x) { return x > 0; });
   const double left = highest(p, [](double x) { return x < 0; });
   const double y0 = height(p, 0.0);
-  if (y0 >= std::min(height(p, right), height(p, left)))
+  if (y0 + depth >= std::min(height(p, right), height(p, left)))
     return std::nullopt;
   // Kasa's fit: x^2 + y^2 = 2 a x + 2 b y + c, linear least squares for
   // (a, b, c); the radius sqrt(c + a^2 + b^2). Centred on the first sample
@@ -203,7 +203,7 @@ std::optional<double> concavity_radius(const Profile& p)
 
 std::optional<double> concave_radius(const Profile& p, const Definitions& d)
 {
-  return d.radius_rule == RadiusRule::concavity ? concavity_radius(p)
+  return d.radius_rule == RadiusRule::concavity ? concavity_radius(p, d.flatness)
                                                 : concave_radius(p, d.radius_window);
 }
 

@@ -49,9 +49,10 @@ std::optional<double> concave_radius(const Profile& p, double half_width);
 /// Radius [mm] of the circle fitted by least squares (Kasa's algebraic
 /// fit) to the samples between the highest points on either side of the
 /// axis: the whole concavity, wherever its rim lies. None unless the
-/// profile is concave there (the apex below both peaks, the circle's
-/// centre on the outer side) with at least five samples.
-std::optional<double> concavity_radius(const Profile& p);
+/// profile is concave there: the apex more than `depth` [mm] below both
+/// peaks (a shallower concavity is flat to the camera), the circle's
+/// centre on the outer side, at least five samples.
+std::optional<double> concavity_radius(const Profile& p, double depth = 0.0);
 
 /// How the concave radius of a profile is read: the circle over the whole
 /// concavity (concavity_radius), or the parabola over a fixed window
@@ -72,7 +73,8 @@ struct Definitions
   double frame_interval = 1 / 4.33; ///< [ms] between the device's frames (4330/s)
 };
 
-/// The concave radius [mm] of a profile by `d`'s rule; none unless concave.
+/// The concave radius [mm] of a profile by `d`'s rule; none unless concave
+/// (the concavity's circle: deeper than d.flatness).
 std::optional<double> concave_radius(const Profile& p, const Definitions& d);
 
 /// Corvis' DA ratio at d [mm]: the deformation on the axis over the mean
