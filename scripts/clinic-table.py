@@ -1,9 +1,12 @@
 #!/usr/bin/python3
-"""A run's Corvis parameters against the clinical norms of normal eyes.
+"""A run's Corvis parameters against two populations of measured eyes.
 
 Prints a Markdown table: every DCR parameter of RUN/summary.json with the
-normal mean and SD and the run's z-score, (run - mean) / SD. The norms and
-their sources: python/nct/clinic.py (docs/physics.md section 9).
+mean and SD of the 202 real eyes (cases/real-eyes) and of the normal eyes
+of PMC7001013, the run's z-scores, (run - mean) / SD, and how many of the
+ten shape and speed readings lie within 2 SD of the real eyes. The
+populations and their sources: python/nct/clinic.py (docs/physics.md
+section 9).
 
 Usage: scripts/clinic-table.py RUN
 """

@@ -101,12 +101,13 @@ def concavity_radius(p, depth=None):
 
 
 def three_point_radius(p):
-    """The circle through the apex and the two highest points, or None."""
+    """The circle through the apex and the two highest points, or None
+    unless the apex lies more than the flatness below them."""
     x, y = p
     r, l = (np.where(x > 0)[0], np.where(x < 0)[0])
     ir, il = r[np.argmax(y[r])], l[np.argmax(y[l])]
     c, sag = 0.5 * (x[ir] - x[il]), 0.5 * (y[ir] + y[il]) - height(p, 0.0)
-    return (c * c + sag * sag) / (2 * sag) if sag > 0 else None
+    return (c * c + sag * sag) / (2 * sag) if sag > FLATNESS else None
 
 
 def parabola_radius(p, window):
