@@ -71,6 +71,8 @@ ROWS = [
 ]
 
 
+NAMES = {key: name for key, name, _, _ in ROWS}
+
 # The real eyes' columns (cases/real-eyes/README.md) for the summary's keys.
 REAL_EYES_COLUMNS = {
     "deformation_amplitude_mm": "HCDA", "a1_length_mm": "AL1", "a1_velocity_m_s": "AV1",

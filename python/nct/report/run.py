@@ -1,6 +1,6 @@
 """A run's page: what the scene simulates and what it cost, the cornea
 through the puff on the device's frame clock, the curves, the DCR
-parameters against normal eyes, the CBI, the energy balance and the
+parameters against measured eyes, the CBI, the energy balance and the
 solver's profile, the files for ParaView."""
 import pathlib
 
@@ -220,7 +220,7 @@ def _dcr(section, summary):
         "refractive-surgery candidates (age 28 +- 5; PMC7001013, software not stated); the "
         "whole-eye movement's time: 68 healthy eyes (doi:10.21203/rs.3.rs-9226844/v1). Where "
         "the two disagree, their software's definitions differ: " + "; ".join(
-            f"{k}: {v}" for k, v in clinic.SOURCES.items()) + ". Velocities on the clinic's "
+            f"{clinic.NAMES[k]}: {v}" for k, v in clinic.SOURCES.items()) + ". Velocities on the clinic's "
         "sign (+ inwards). The device's times run on its clock, whose zero lies an unknown "
         "time before the pulse's onset, from which the run counts: compare the intervals, not "
         "the times (their rows are not marked). Rows beyond 2 SD are marked.", "note")
@@ -334,7 +334,7 @@ def page(folder):
         sec = page.section("pressures", "Air pressure at the apex and IOP")
         sec.figure(pufffigs["pressures"], "The air's pressure at the apex and the IOP (the "
                    "closed cavities' pressure) against time", "pressures")
-        _dcr(page.section("dcr", "DCR parameters against normal eyes"), s)
+        _dcr(page.section("dcr", "DCR parameters against measured eyes"), s)
         _cbi(page.section("cbi", "Corvis Biomechanical Index"), s)
     if "energy_balance" in s:
         _energy(page.section("energy", "Energy balance of the coupling"), s)
