@@ -3,7 +3,7 @@ docs/*.md, the cases' pages (cases/README.md, cases/*/README.md),
 scripts/README.md and python/README.md leads to a file of the repository
 (and a #section to a heading there), every docs/<name>.md the sources
 name exists, and no file of the repository cites one outside it. The
-manual's summary.json tables hold every entry of the biomarker registry
+run folder's summary.json tables (docs/run-folder.md) hold every entry of the biomarker registry
 (python/nct/biomarkers.json) with its unit.
 
 usage: docs_check.py SOURCE_DIR"""
@@ -59,13 +59,13 @@ for name in sorted(cited):
     if not os.path.exists(f"{root}/{name}"):
         problems.append(f"{name} is cited but not in the repository")
 
-manual = open(f"{root}/docs/manual.md").read()
-rows = dict(re.findall(r"^\| `([^`]+)` \|([^|]*)\|", manual, re.M))
+run_folder = open(f"{root}/docs/run-folder.md").read()
+rows = dict(re.findall(r"^\| `([^`]+)` \|([^|]*)\|", run_folder, re.M))
 for entry in json.load(open(f"{root}/python/nct/biomarkers.json")):
     if entry["key"] not in rows:
-        problems.append(f"docs/manual.md: no row for the registry's `{entry['key']}`")
+        problems.append(f"docs/run-folder.md: no row for the registry's `{entry['key']}`")
     elif rows[entry["key"]].strip() != entry["unit"]:
-        problems.append(f"docs/manual.md: `{entry['key']}` in {rows[entry['key']].strip()!r}, "
+        problems.append(f"docs/run-folder.md: `{entry['key']}` in {rows[entry['key']].strip()!r}, "
                         f"the registry's unit is {entry['unit']!r}")
 
 for p in problems:
