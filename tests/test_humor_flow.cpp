@@ -1,4 +1,4 @@
-// The humors' flow (forms/humor_flow.py, cpp/humor_flow) against closed
+// The humors' flow (forms/humor_flow.py, cpp/humor) against closed
 // forms and its Jacobian against differences; serially and on 2 ranks.
 #include <cmath>
 #include <cstdio>
@@ -14,6 +14,7 @@
 
 #include "cavity/cavity.h"
 #include "helpers.h"
+#include "humor/flow.h"
 #include "jacobian_check.h"
 #include "run/model.h"
 #include "run/solid_block.h"
@@ -79,10 +80,11 @@ TEST(HumorFlow, RigidBallInASphereCarriesStokesAddedMass)
 {
   nct::Model model = model_of(ball_scene, {});
   auto& problem = model.solid->problem;
-  auto& flow = *model.solid->flow;
+  auto& flow = dynamic_cast<nct::humor::Flow&>(*model.solid->humor);
   const double dt = 0.025, P = 1e-4, rho = 1e-3, rho_ball = 1e-6;
   const double a = 1.0, a_i = 0.5, b = 2.0;
   nct::cavity::Closed closed(problem, {0.0});
+  nct::cavity::Open open(problem);
   problem.start_dynamics({dt, 0.0, 0.0});
   flow.start();
   dolfinx::la::petsc::Matrix A(flow.create_matrix(), false);
@@ -99,12 +101,10 @@ TEST(HumorFlow, RigidBallInASphereCarriesStokesAddedMass)
   const int steps = 40;
   for (int n = 0; n < steps; ++n)
   {
-    const auto report = newton.solve(flow.system(&closed), settings);
+    const auto report = newton.solve(flow.system(&closed, open), settings);
     ASSERT_TRUE(report.converged) << "step " << n << ": " << report.reason;
     iterations += report.iterations;
-    flow.unknowns().unpack();
-    problem.advance();
-    flow.advance();
+    flow.advance(); // the solid's step, then the humor's mesh
     volume_change = std::max(volume_change, std::abs(problem.cavity_volumes()[0] / held - 1));
     t.push_back((n + 1) * dt);
     z.push_back(problem.displacement_at({{0.0, 0.75, 0.0}})[0][1]);
@@ -154,7 +154,7 @@ TEST(HumorFlow, JacobianMatchesDifferences)
   {
     nct::Model model = model_of(scene, sets);
     auto& problem = model.solid->problem;
-    auto& flow = *model.solid->flow;
+    auto& flow = dynamic_cast<nct::humor::Flow&>(*model.solid->humor);
     nct::cavity::Closed closed(problem, std::vector<double>(problem.cavities(), 1e-3));
     problem.start_dynamics({0.05, 0.5, 0.0});
     flow.start();
@@ -182,7 +182,8 @@ TEST(HumorFlow, JacobianMatchesDifferences)
     unknowns.pack();
     const dolfinx::la::Vector<double> x0 = unknowns.x();
     dolfinx::la::petsc::Matrix A(flow.create_matrix(), false);
-    const auto check = check_blocks(flow.system(&closed), unknowns, A.mat(), d, x0, 1e-3,
+    nct::cavity::Open open(problem);
+    const auto check = check_blocks(flow.system(&closed, open), unknowns, A.mat(), d, x0, 1e-3,
                                     scene + ": solid-humor Jacobian, "
                                         + std::to_string(flow.wall_nodes()) + " wall nodes");
     EXPECT_LT(check.relative[1], 1e-6) << scene;
@@ -238,18 +239,10 @@ Ringing ring(const std::string& scene, const std::vector<std::string>& sets,
   const nct::dynamics::TimeStep step{dt, 0.9, 0.0};
   problem.start_dynamics(step);
   problem.set_press_profile(shape);
-  auto* flow = block.flow.get();
-  if (flow)
-    flow->start();
-  auto* ns = block.navier_stokes.get();
-  if (ns)
-  {
-    ns->start();
-    ns->unknowns().pack();
-  }
-  dolfinx::la::petsc::Matrix A(flow ? flow->create_matrix()
-                               : ns ? ns->create_matrix()
-                                    : problem.create_matrix(),
+  auto& humor = *block.humor;
+  humor.start();
+  dolfinx::la::petsc::Matrix A(humor.system_name() ? humor.create_matrix()
+                                                   : problem.create_matrix(),
                                false);
   nct::solver::set_petsc_options({});
   nct::solver::Newton newton(MPI_COMM_WORLD, A.mat());
@@ -264,13 +257,8 @@ Ringing ring(const std::string& scene, const std::vector<std::string>& sets,
   {
     const double tn = (n + problem.load_level()) * dt;
     problem.set_press(tn < tau ? P * std::pow(std::sin(M_PI * tn / tau), 2) : 0.0);
-    if (ns)
-      ns->set_time_step(step);
-    const auto report = newton.solve(flow     ? flow->system(closed ? &*closed : nullptr)
-                                     : ns     ? ns->system()
-                                     : closed ? closed->system()
-                                              : open.system(),
-                                     settings);
+    humor.set_time_step(step);
+    const auto report = newton.solve(humor.system(closed ? &*closed : nullptr, open), settings);
     if (!report.converged)
     {
       ADD_FAILURE() << scene << ", step " << n << ": " << report.reason;
@@ -278,14 +266,7 @@ Ringing ring(const std::string& scene, const std::vector<std::string>& sets,
     }
     r.iterations += report.iterations;
     ++r.steps;
-    if (flow)
-      flow->unknowns().unpack();
-    if (ns)
-      ns->advance(); // the solid's too
-    else
-      problem.advance();
-    if (flow)
-      flow->advance();
+    humor.advance();
     r.volume_change = std::max(r.volume_change, std::abs(problem.cavity_volumes()[0] / held - 1));
     t.push_back((n + 1) * dt);
     y.push_back(problem.displacement_at({std::isnan(probe[0]) ? block.probes.at(0) : probe})[0][1]);
@@ -490,8 +471,9 @@ TEST(HumorFlow, BallPushedThroughTheGapStopsWithTheHumorNamed)
 {
   nct::Model model = model_of(ball_scene, {"mesh.parameters.h=0.1"});
   auto& problem = model.solid->problem;
-  auto& flow = *model.solid->flow;
+  auto& flow = dynamic_cast<nct::humor::Flow&>(*model.solid->humor);
   nct::cavity::Closed closed(problem, {0.0});
+  nct::cavity::Open open(problem);
   problem.start_dynamics({0.02, 0.0, 0.0});
   flow.start();
   dolfinx::la::petsc::Matrix A(flow.create_matrix(), false);
@@ -504,14 +486,12 @@ TEST(HumorFlow, BallPushedThroughTheGapStopsWithTheHumorNamed)
   double moved = 0, smallest = 1;
   for (int n = 0; n < 200 && reason.empty(); ++n)
   {
-    const auto report = newton.solve(flow.system(&closed), settings);
+    const auto report = newton.solve(flow.system(&closed, open), settings);
     if (!report.converged)
     {
       reason = report.reason;
       break;
     }
-    flow.unknowns().unpack();
-    problem.advance();
     flow.advance();
     smallest = std::min(smallest, flow.smallest_cell_ratio().first);
     moved = problem.displacement_at({{0.0, 0.75, 0.0}})[0][1];

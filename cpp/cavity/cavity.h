@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "solid/problem.h"
+#include "solver/bordered.h"
 #include "solver/newton.h"
 
 namespace nct::cavity
@@ -31,7 +32,7 @@ private:
 /// Pi(u) + sum p_c G_c(u), so the bordered matrix is symmetric. In the
 /// dynamics, with the humors' mass (solid::HumorInertia), their inertial
 /// forces follow the pressures among the unknowns, with their own rows.
-class Closed
+class Closed : public solver::Border
 {
 public:
   /// Close the cavities at the problem's current state: the targets are
@@ -46,15 +47,15 @@ public:
 
   /// The pieces a larger system composes, at the problem's current u:
   /// set the problem's cavity pressures (and the humors' forces) from the unknowns,
-  void apply();
+  void apply() override;
   /// g = the constraints (the unknowns' residual),
-  void constraints(std::vector<double>& g) const;
+  void constraints(std::vector<double>& g) const override;
   /// B[i] = dR/dy_i, C[i] = dG_i/du, laid out as u, and D = dG/dy (row-major).
   void border(std::vector<dolfinx::la::Vector<double>>& B,
-              std::vector<dolfinx::la::Vector<double>>& C, std::vector<double>& D) const;
+              std::vector<dolfinx::la::Vector<double>>& C, std::vector<double>& D) const override;
   /// The unknowns, for a System's y: the pressures [MPa], then in the
   /// dynamics the humors' inertial forces [N, meshed part] if modelled.
-  std::vector<double>* unknowns();
+  std::vector<double>* unknowns() override;
 
   /// Cavity pressures [MPa] (the multipliers).
   std::vector<double> pressures() const

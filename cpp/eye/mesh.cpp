@@ -584,9 +584,7 @@ void add_humor(QuarterMesh& mesh, double size)
   loop_lid.insert(loop_lid.end(), {radial_x, -radial_z});
   const std::array<int, 3> faces{surface(loop_z), surface(loop_x), surface(loop_lid)};
   gmsh::model::geo::synchronize();
-  OptionGuard sizes;
-  sizes.set("Mesh.MeshSizeMax", size); // global: restored for the air's meshing after
-  gmsh::model::mesh::generate(2);
+  generate_at_most(2, size);
 
   // Every face's node by place: the wall's are the shell's, the rest new.
   std::map<Vec3, std::size_t> tag_at;
@@ -620,12 +618,8 @@ void add_humor(QuarterMesh& mesh, double size)
         x[1] = y_cut;
       tag[node_tags[i]] = tag_of(x);
     }
-    std::vector<int> types;
-    std::vector<std::vector<std::size_t>> elements, element_nodes;
-    gmsh::model::mesh::getElements(types, elements, element_nodes, 2, faces[f]);
-    for (std::size_t t = 0; t < types.size(); ++t)
-      for (auto n : element_nodes[t])
-        face_triangles[f].push_back(tag.at(n));
+    for (auto n : element_nodes(2, faces[f]))
+      face_triangles[f].push_back(tag.at(n));
   }
   gmsh::model::remove();
 
@@ -663,19 +657,16 @@ void add_humor(QuarterMesh& mesh, double size)
     throw std::runtime_error("nct::eye::build: gmsh's humor does not keep its surface's nodes ("
                              + std::to_string(on_surface) + " of "
                              + std::to_string(surface_nodes.size()) + ")");
-  std::vector<int> types;
-  std::vector<std::vector<std::size_t>> elements, element_nodes;
-  gmsh::model::mesh::getElements(types, elements, element_nodes, 3);
-  for (std::size_t t = 0; t < types.size(); ++t)
-    for (std::size_t e = 0; e + 4 <= element_nodes[t].size(); e += 4)
-    {
-      Tet tet;
-      for (int j = 0; j < 4; ++j)
-        tet[j] = tag.at(element_nodes[t][e + j]);
-      if (signed_volume(at(tet[0]), at(tet[1]), at(tet[2]), at(tet[3])) < 0)
-        std::swap(tet[2], tet[3]);
-      mesh.humor.insert(mesh.humor.end(), tet.begin(), tet.end());
-    }
+  const auto tets = element_nodes(3); // linear tetrahedra only
+  for (std::size_t e = 0; e + 4 <= tets.size(); e += 4)
+  {
+    Tet tet;
+    for (int j = 0; j < 4; ++j)
+      tet[j] = tag.at(tets[e + j]);
+    if (signed_volume(at(tet[0]), at(tet[1]), at(tet[2]), at(tet[3])) < 0)
+      std::swap(tet[2], tet[3]);
+    mesh.humor.insert(mesh.humor.end(), tet.begin(), tet.end());
+  }
   gmsh::model::remove();
   if (mesh.humor.empty())
     throw std::runtime_error("nct::eye::build: gmsh made no tetrahedra in the humor");

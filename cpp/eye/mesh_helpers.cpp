@@ -2,6 +2,7 @@
 // and groups' rules and the writer of gmsh elements.
 #include "eye/mesh_helpers.h"
 #include "eye/shape.h"
+#include "meshio/gmsh_options.h"
 
 #include <gmsh.h>
 
@@ -62,6 +63,24 @@ void add_elements(std::size_t& next, int entity, int type, const std::vector<std
   for (auto& tag : tags)
     tag = next++;
   gmsh::model::mesh::addElementsByType(entity, type, tags, nodes);
+}
+
+void generate_at_most(int dim, double size)
+{
+  meshio::OptionGuard sizes;
+  sizes.set("Mesh.MeshSizeMax", size);
+  gmsh::model::mesh::generate(dim);
+}
+
+std::vector<std::size_t> element_nodes(int dim, int tag)
+{
+  std::vector<int> types;
+  std::vector<std::vector<std::size_t>> elements, nodes;
+  gmsh::model::mesh::getElements(types, elements, nodes, dim, tag);
+  std::vector<std::size_t> all;
+  for (const auto& n : nodes)
+    all.insert(all.end(), n.begin(), n.end());
+  return all;
 }
 
 } // namespace nct::eye::detail

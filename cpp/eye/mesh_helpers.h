@@ -61,6 +61,16 @@ Group inner_group(bool internal_structures, bool in_front_of_ring);
 /// vitreous membrane on the posterior-most layer (if N > 1), else zonule.
 Part diaphragm_part(int annulus, std::size_t k, std::size_t layers);
 
+// The humor's meshing (both meshers): gmsh fills the closed wall of a
+// cavity on the wall's own nodes, graded from their spacing.
+
+/// Meshes the current gmsh model to dimension `dim` with elements of at
+/// most `size` (the global option restored after, for the meshing that follows).
+void generate_at_most(int dim, double size);
+/// The nodes of every element of dimension `dim` on entity `tag` (-1: all)
+/// of the current model, concatenated in gmsh's order.
+std::vector<std::size_t> element_nodes(int dim, int tag = -1);
+
 /// Adds elements of one gmsh type to an entity of the current model,
 /// tagged consecutively from `next` on.
 void add_elements(std::size_t& next, int entity, int type, const std::vector<std::size_t>& nodes,

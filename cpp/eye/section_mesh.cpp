@@ -228,11 +228,7 @@ void add_humor(SectionMesh& section, const std::vector<Chamber>& chambers, doubl
     for (int l : wall_lines)
       gmsh::model::geo::mesh::setTransfiniteCurve(l, 2); // the wall's own nodes only
     gmsh::model::geo::synchronize();
-    double size_max = 0; // the option is global: the air's meshing after must not see it
-    gmsh::option::getNumber("Mesh.MeshSizeMax", size_max);
-    gmsh::option::setNumber("Mesh.MeshSizeMax", size);
-    gmsh::model::mesh::generate(2);
-    gmsh::option::setNumber("Mesh.MeshSizeMax", size_max);
+    generate_at_most(2, size);
 
     // Its nodes into the section's: the wall's by place (unless an earlier
     // chamber's), the rest new.
@@ -265,23 +261,17 @@ void add_humor(SectionMesh& section, const std::vector<Chamber>& chambers, doubl
     }
     for (auto i : wall)
       taken.insert(section.tags[i]);
-    std::vector<int> types;
-    std::vector<std::vector<std::size_t>> elements, element_nodes;
-    gmsh::model::mesh::getElements(types, elements, element_nodes, 2);
     section.humor.emplace_back();
-    for (std::size_t t = 0; t < types.size(); ++t)
-      for (auto node : element_nodes[t])
-        section.humor.back().push_back(tag_of.at(node));
+    for (auto node : element_nodes(2))
+      section.humor.back().push_back(tag_of.at(node));
     std::vector<std::pair<int, Group>> lines{{axis, Group::symmetry_x}};
     if (chamber.lid)
       lines.push_back({lid, Group::humor_lid});
     for (auto [line, group] : lines)
     {
-      gmsh::model::mesh::getElements(types, elements, element_nodes, 1, line);
-      for (std::size_t t = 0; t < types.size(); ++t)
-        for (std::size_t e = 0; e + 1 < element_nodes[t].size(); e += 2)
-          section.add_segment(group, tag_of.at(element_nodes[t][e]),
-                              tag_of.at(element_nodes[t][e + 1]));
+      const auto segments = element_nodes(1, line);
+      for (std::size_t e = 0; e + 1 < segments.size(); e += 2)
+        section.add_segment(group, tag_of.at(segments[e]), tag_of.at(segments[e + 1]));
     }
     gmsh::model::remove();
   }

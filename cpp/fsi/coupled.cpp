@@ -12,6 +12,7 @@
 #include <dolfinx/fem/assembler.h>
 
 #include "io/format.h"
+#include "solver/bordered.h"
 
 namespace nct::fsi
 {
@@ -75,9 +76,9 @@ std::string where(const Place& x)
 
 Coupled::Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem& motion,
                  const meshio::Tagged& solid_mesh, const meshio::Tagged& air_mesh,
-                 const Interface& interface, bool shape_derivative, humor_flow::Flow* flow,
+                 const Interface& interface, bool shape_derivative, Joined* joined,
                  const std::string& fluid)
-    : _solid(solid), _air(air), _motion(motion), _flow(flow), _air_mesh(air_mesh.mesh),
+    : _solid(solid), _air(air), _motion(motion), _joined(joined), _air_mesh(air_mesh.mesh),
       _shape_derivative(shape_derivative), _gdim(solid_mesh.mesh->geometry().dim())
 {
   if (!air.moving() || air.d != motion.d)
@@ -85,8 +86,8 @@ Coupled::Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem&
   std::vector<solver::Monolithic::Field> fields{{"solid", solid.u, std::nullopt},
                                                 {fluid, air.up, std::nullopt},
                                                 {"mesh_motion", motion.d, motion.active()}};
-  if (flow)
-    fields.push_back(flow->field());
+  if (joined)
+    fields.push_back(joined->field());
   _unknowns = std::make_unique<solver::Monolithic>(solid_mesh.mesh->comm(), fields);
   _solid_held = solid.dynamic_dirichlet_marker(); // the coupled system runs in the dynamics
   _air_held = air.dirichlet_marker();
@@ -132,8 +133,8 @@ Coupled::Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem&
       _mesh_block.rows[i] = -1;
   }
   _air_mesh_block = {_air_block.rows, _mesh_block.cols, _air_block.row_factor, 1, _gdim};
-  if (flow)
-    _flow_at = flow->place(U, 0, 3);
+  if (joined)
+    joined->place(U, 0, 3);
 }
 
 void Coupled::pair(const meshio::Tagged& solid_mesh, const meshio::Tagged& air_mesh,
@@ -305,9 +306,9 @@ void Coupled::residual(la::Vector<double>& b)
   };
   _solid.residual(*_b_solid);
   lap("solid");
-  std::vector<double> bh(_flow ? _unknowns->owned(3) : 0);
-  if (_flow)
-    _flow->add_residual(_b_solid->mutable_array(), bh);
+  std::vector<double> bh(_joined ? _unknowns->owned(3) : 0);
+  if (_joined)
+    _joined->add_residual(_b_solid->mutable_array(), bh);
   lap("humor_flow");
   _air.residual(*_b_air);
   lap("air");
@@ -347,7 +348,7 @@ void Coupled::residual(la::Vector<double>& b)
   _unknowns->insert(0, bs, b);
   _unknowns->insert(1, bf, b);
   _unknowns->insert(2, bm, b);
-  if (_flow)
+  if (_joined)
     _unknowns->insert(3, bh, b);
   lap("interface");
 }
@@ -372,8 +373,8 @@ void Coupled::add_jacobian(Mat A)
   lap("air_shape");
   fem::assemble_matrix(solver::add_block(A, _mesh_block), _motion.jacobian_form(), {});
   lap("mesh_motion");
-  if (_flow)
-    _flow->add_jacobian(_flow_at, A);
+  if (_joined)
+    _joined->add_jacobian(A);
   lap("humor_flow");
   // Held rows: the diagonal of their residual d (x - 0).
   auto diagonal = [&](std::size_t f, const std::vector<std::int8_t>& held, double value)
@@ -414,44 +415,9 @@ Mat Coupled::create_matrix()
 
 solver::System Coupled::system(cavity::Closed* closed)
 {
-  solver::System s;
-  s.x = &_unknowns->x();
-  s.y = closed ? closed->unknowns() : &_no_unknowns;
-  s.residual = [this, closed](la::Vector<double>& b, std::vector<double>& g)
-  {
-    _unknowns->unpack();
-    if (closed)
-      closed->apply();
-    residual(b);
-    if (closed)
-      closed->constraints(g);
-  };
-  s.jacobian = [this, closed](Mat A)
-  {
-    _unknowns->unpack();
-    if (closed)
-      closed->apply();
-    MatZeroEntries(A);
-    add_jacobian(A);
-    const double t = MPI_Wtime();
-    MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY); // off-process entries move here
-    MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
-    _timings["matrix_communication"] += MPI_Wtime() - t;
-  };
-  if (closed)
-    s.border = [this, closed](std::vector<la::Vector<double>>& B,
-                              std::vector<la::Vector<double>>& C, std::vector<double>& D)
-    {
-      std::vector<la::Vector<double>> Bs(B.size(), *_b_solid), Cs(C.size(), *_b_solid);
-      closed->border(Bs, Cs, D);
-      for (std::size_t i = 0; i < B.size(); ++i)
-      {
-        std::fill(B[i].mutable_array().begin(), B[i].mutable_array().end(), 0.0);
-        std::fill(C[i].mutable_array().begin(), C[i].mutable_array().end(), 0.0);
-        _unknowns->insert(0, Bs[i].array(), B[i]);
-        _unknowns->insert(0, Cs[i].array(), C[i]);
-      }
-    };
+  solver::System s = solver::bordered(
+      *_unknowns, closed, *_b_solid, [this](la::Vector<double>& b) { residual(b); },
+      [this](Mat A) { add_jacobian(A); }, &_timings["matrix_communication"]);
   s.inadmissible = [this] { return inadmissible(); };
   s.locate = [this](const la::Vector<double>& b)
   {
@@ -496,7 +462,7 @@ std::string Coupled::inadmissible() const
   const auto [J, x] = _air.smallest_mesh_jacobian();
   if (!(J > 0))
     return format("an air cell folded: the mesh motion's det F = %.3g ", J) + where(x);
-  return _flow ? _flow->inadmissible() : "";
+  return _joined ? _joined->inadmissible() : "";
 }
 
 void Coupled::start()
@@ -555,8 +521,8 @@ void Coupled::advance()
   _lambda_n = _lambda;
   _solid.advance();
   _air.advance();
-  if (_flow)
-    _flow->advance();
+  if (_joined)
+    _joined->advance();
 }
 
 Power Coupled::power()

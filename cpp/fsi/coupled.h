@@ -10,10 +10,10 @@
 #include <vector>
 
 #include <petscmat.h>
+#include <span>
 
 #include "air/problem.h"
 #include "cavity/cavity.h"
-#include "humor_flow/flow.h"
 #include "mesh_motion/problem.h"
 #include "meshio/model.h"
 #include "solid/problem.h"
@@ -28,6 +28,28 @@ namespace nct::fsi
 struct Interface
 {
   std::vector<std::int32_t> solid, air;
+};
+
+/// A field that joins the coupled system beside the solid's displacement
+/// (the humor's flow, cpp/humor): its unknowns, its rows and its
+/// couplings to the solid.
+class Joined
+{
+public:
+  virtual ~Joined() = default;
+  /// Its field of the stacked unknowns.
+  virtual solver::Monolithic::Field field() const = 0;
+  /// Its place in U, whose field `solid` is the solid's u and `own` its own.
+  virtual void place(const solver::Monolithic& U, std::size_t solid, std::size_t own) = 0;
+  /// With U unpacked: its loads added to the solid's rows `b_solid` (laid
+  /// out as u's entries, owned first), its own rows into `b_own`.
+  virtual void add_residual(std::span<double> b_solid, std::span<double> b_own) = 0;
+  /// Its blocks and its couplings to the solid into A, where place() put them.
+  virtual void add_jacobian(Mat A) = 0;
+  /// Why the current state is not admissible for it, or empty. Collective.
+  virtual std::string inadmissible() = 0;
+  /// After a converged step.
+  virtual void advance() = 0;
 };
 
 /// The interface's power at the solid's balance level t_{n+1-alpha_f}
@@ -72,12 +94,12 @@ public:
   /// reference geometry moves (zero pressure), on the meshes as built.
   /// `shape_derivative` false leaves the air's dR/dd block out of the
   /// Jacobian (a quasi-Newton method).
-  /// `flow`: the humors' flow (its p~ the fourth field), or null.
+  /// `joined`: a fourth field (the humors' flow), or null.
   /// `fluid`: the fluid's field name (in Newton's diagnostics).
   Coupled(solid::Problem& solid, air::Problem& air, mesh_motion::Problem& motion,
           const meshio::Tagged& solid_mesh, const meshio::Tagged& air_mesh,
           const Interface& interface, bool shape_derivative,
-          humor_flow::Flow* flow = nullptr, const std::string& fluid = "air");
+          Joined* joined = nullptr, const std::string& fluid = "air");
 
   /// Start coupling from the solid's current state: the air mesh is
   /// moved (its reference with it) so that its interface lies on the
@@ -107,8 +129,8 @@ public:
   /// Collective; assembles the coupled and the solid's residuals.
   Power power();
 
-  /// The stacked unknowns (fields: solid, air, mesh_motion; humor_flow
-  /// with the humors' flow).
+  /// The stacked unknowns (fields: solid, air, mesh_motion; the joined
+  /// field's fourth).
   solver::Monolithic& unknowns() { return *_unknowns; }
   const solver::Monolithic& unknowns() const { return *_unknowns; }
   /// Interface nodes paired (each with up to 3 coupled components).
@@ -150,8 +172,7 @@ private:
   solid::Problem& _solid;
   air::Problem& _air;
   mesh_motion::Problem& _motion;
-  humor_flow::Flow* _flow;
-  humor_flow::Flow::Placement _flow_at;
+  Joined* _joined;
   std::shared_ptr<dolfinx::mesh::Mesh> _air_mesh; ///< moved by start()
   bool _shape_derivative;
   std::unique_ptr<solver::Monolithic> _unknowns;
@@ -165,7 +186,6 @@ private:
   std::vector<std::size_t> _moved_rows; ///< air rows added to the solid's
   std::vector<std::int8_t> _solid_held, _air_held;
   std::unique_ptr<dolfinx::la::Vector<double>> _b_solid, _b_air, _b_mesh; ///< block residuals
-  std::vector<double> _no_unknowns;
   std::map<std::string, double> _timings;
   double _alpha_f = 0;
   bool _started = false;

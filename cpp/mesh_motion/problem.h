@@ -75,7 +75,7 @@ public:
   /// displacement of owned interface nodes (block indices of d's map; 3
   /// values each; held components are ignored). The mesh must be at its
   /// reference geometry. For the start of a coupled run, the humor's mesh
-  /// (cpp/humor_flow) and tests.
+  /// (cpp/humor) and tests.
   void extend(const std::vector<std::pair<std::int32_t, std::array<double, 3>>>& g);
 
   /// Number of unknowns (active scalar entries) over all ranks.

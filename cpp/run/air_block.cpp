@@ -271,7 +271,7 @@ CouplingBlock::CouplingBlock(SolidBlock& solid, AirBlock& air, MeshMotionBlock& 
                              const fsi::Interface& interface, const FsiSettings& s)
     : settings(s),
       coupled(solid.problem, air.problem, motion.problem, solid.mesh.mesh, air.mesh.mesh,
-              interface, s.shape_derivative, solid.flow.get()),
+              interface, s.shape_derivative, solid.humor->joined()),
       _solid(solid), _air(air)
 {
 }
@@ -412,11 +412,9 @@ CouplingBlock::Energy::State CouplingBlock::energy_state() const
 {
   const auto& solid = _solid.problem;
   const double kinetic = solid.kinetic_energy();
-  // The humors' kinetic energy is the work their inertial pressure took.
-  const auto* humor = solid.humor_inertia();
-  double humor_kinetic = humor ? humor->kinetic_energy() * solid.symmetry_factor() : 0.0;
-  if (_solid.flow) // the flowing humor's, from its Euler velocity
-    humor_kinetic += _solid.flow->kinetic_energy() * solid.symmetry_factor();
+  // The humors' kinetic energy is the work their inertial pressure took
+  // (translating), or from their Euler velocity (flowing).
+  const double humor_kinetic = _solid.humor->kinetic_energy() * solid.symmetry_factor();
   return {kinetic, kinetic + humor_kinetic + solid.strain_energy(), solid.cavity_volumes(),
           _solid.cavity_pressures()};
 }

@@ -12,7 +12,7 @@
 #include "eye/geometry.h"
 #include "io/checkpoint.h"
 #include "io/output.h"
-#include "humor_flow/flow.h"
+#include "humor/humor.h"
 #include "meshio/model.h"
 #include "solid/problem.h"
 
@@ -33,7 +33,7 @@ struct MeshSetup
   std::vector<std::string> cavity_names; ///< one per entry of boundaries.cavities
   /// The humors' mesh (cavity.humor_inertia = "flow") and its groups.
   std::optional<meshio::Tagged> humor;
-  humor_flow::Boundaries humor_boundaries;
+  humor::Boundaries humor_boundaries;
 };
 
 /// The air's mesh: the air domain meshed with the idealised eye (or in

@@ -37,21 +37,11 @@ SolidBlock::SolidBlock(MeshSetup mesh_setup, SolidBlockSettings s, bool is_eye)
       _press_peak(settings.solid.press.pressure * mmHg)
 {
   _open.emplace(problem);
-  const CavitySettings& cavity = settings.solid.cavity;
-  if (mesh.humor && cavity.humor_inertia == CavitySettings::HumorInertia::navier_stokes)
-  {
-    std::vector<std::int32_t> walls;
-    for (const auto& groups : mesh.boundaries.cavities)
-      walls.insert(walls.end(), groups.begin(), groups.end());
-    // Continuity rows scaled by the humor's speed under a puff, 0.2 m/s;
-    // the stabilisation bounded by the nominal time step, as the air's.
-    navier_stokes = std::make_unique<humor_flow::NavierStokes>(
-        problem, mesh.mesh, walls, *mesh.humor, mesh.humor_boundaries, cavity.humor_density,
-        cavity.humor_viscosity, 0.2, settings.time_step.dt);
-  }
-  else if (mesh.humor)
-    flow = std::make_unique<humor_flow::Flow>(problem, *mesh.humor, mesh.humor_boundaries,
-                                              cavity.humor_density);
+  std::vector<std::int32_t> walls;
+  for (const auto& groups : mesh.boundaries.cavities)
+    walls.insert(walls.end(), groups.begin(), groups.end());
+  humor = humor::make(problem, {mesh.mesh, walls, mesh.humor, mesh.humor_boundaries},
+                      settings.solid.cavity, settings.time_step.dt);
   _press_profile = [](const auto&) { return 1.0; };
   if (settings.solid.press.gaussian)
   {
@@ -78,20 +68,7 @@ void SolidBlock::describe(nlohmann::json& summary, io::RunFolder& folder) const
                         ? "triangles (plane strain)"
                         : "triangles (an axisymmetric section: whole-body results)",
                     settings.solid.element.degree, (long long)problem.dofs()));
-  if (mesh.humor)
-  {
-    const auto& t = mesh.humor->mesh->topology();
-    const std::int64_t humor_cells = t.index_map(t.dim())->size_global();
-    const std::int64_t dofs = flow ? flow->dofs() : navier_stokes->dofs();
-    summary["humor_cells"] = humor_cells;
-    summary["humor_dofs"] = dofs;
-    folder.log(format("humor: %lld cells, %lld %s unknowns, %zu wall nodes "
-                      "(cavity.humor_inertia = \"%s\")",
-                      (long long)humor_cells, (long long)dofs,
-                      flow ? "pressure" : "velocity and pressure",
-                      flow ? flow->wall_nodes() : navier_stokes->wall_nodes(),
-                      flow ? "flow" : "navier_stokes"));
-  }
+  humor->describe(summary, folder);
   if (!mesh.probe_names.empty())
     folder.log("step lines: '" + mesh.probe_names[0]
                + " u' is the displacement from the reference (stress-free) geometry [mm], as in "
@@ -116,10 +93,8 @@ void SolidBlock::close() { _closed.emplace(problem, _open_pressures); }
 
 solver::System SolidBlock::system()
 {
-  if (flowing())
-    return flow->system(_closed ? &*_closed : nullptr);
-  if (viscous()) // the humor holds its volume; the wall keeps the cavity's pressure as closed
-    return navier_stokes->system();
+  if (_dynamic)
+    return humor->system(closed(), *_open);
   return _closed ? _closed->system() : _open->system();
 }
 
@@ -127,25 +102,15 @@ biomarkers::Columns SolidBlock::cavity_state() const
 {
   const auto volumes = problem.cavity_volumes();
   const auto pressures = cavity_pressures();
-  // With the humors' mass the multiplier is the pressure at the volume's
-  // origin; the humor's mean pressure is reported (forms/humor_inertia.py).
-  const auto* humor = problem.humor_inertia();
+  // The humor's mean pressure is reported.
   biomarkers::Columns state;
   for (std::size_t c = 0; c < volumes.size(); ++c)
   {
-    const double p = pressures[c] + (humor ? humor->mean_pressure_shift(c) : 0.0)
-                     + (viscous() ? navier_stokes->mean_pressure() : 0.0);
+    const double p = pressures[c] + humor->pressure_shift(c);
     state.push_back({mesh.cavity_names[c] + "_pressure_mmHg", p / mmHg});
     state.push_back({mesh.cavity_names[c] + "_volume_mm3", volumes[c]});
   }
-  if (humor)
-  {
-    // Each cavity's humor's axial inertial force on the eye, whole model.
-    for (std::size_t j = 0; j < humor->size(); ++j)
-      if (humor->component(j) == 1)
-        state.push_back({mesh.cavity_names[humor->cavity(j)] + "_humor_inertia_N",
-                         -humor->forces()[j] * problem.symmetry_factor()});
-  }
+  humor->state(mesh.cavity_names, state);
   return state;
 }
 
@@ -186,41 +151,18 @@ void SolidBlock::start_dynamics()
     return;
   _dynamic = true;
   problem.start_dynamics(settings.time_step);
-  if (flow)
-    flow->start();
-  if (navier_stokes)
-  {
-    navier_stokes->start();
-    navier_stokes->unknowns().pack();
-  }
+  humor->start();
   open_frames();
 }
 
 Stepper::Dynamics SolidBlock::dynamics()
 {
-  if (flowing())
-    // x holds the solid's u and the humor's p~ stacked.
-    return {[this](double dt) { problem.set_time_step(settings.time_step.with_dt(dt)); },
-            [this] { return problem.load_level(); },
-            [this]
-            {
-              flow->unknowns().unpack();
-              problem.advance();
-              flow->advance();
-            },
-            [this]
-            {
-              flow->unknowns().unpack();
-              problem.predict();
-              flow->unknowns().pack();
-            }};
-  if (viscous())
-    // x holds the solid's u and the humor's (u, p) and mesh displacement.
-    return {[this](double dt) { navier_stokes->set_time_step(settings.time_step.with_dt(dt)); },
-            [this] { return problem.load_level(); }, [this] { navier_stokes->advance(); }};
-  return {[this](double dt) { problem.set_time_step(settings.time_step.with_dt(dt)); },
-          [this] { return problem.load_level(); }, [this] { problem.advance(); },
-          [this] { problem.predict(); }};
+  // x holds the solid's u and the humor's unknowns, if any.
+  Stepper::Dynamics d{[this](double dt) { humor->set_time_step(settings.time_step.with_dt(dt)); },
+                      [this] { return problem.load_level(); }, [this] { humor->advance(); }};
+  if (humor->predicts())
+    d.predict = [this] { humor->predict(); };
+  return d;
 }
 
 void SolidBlock::open_frames()
@@ -289,17 +231,8 @@ void SolidBlock::write_fields(double time)
   problem.update_von_mises();
   _output->fields.write(*problem.u, time);
   _output->fields.write(*problem.von_mises, time);
-  if (flowing() && _output->humor)
-    flow->write(*_output->humor, time);
-  if (viscous() && _output->humor)
-  {
-    auto& fluid = navier_stokes->fluid();
-    navier_stokes->unknowns().unpack();
-    fluid.update_fields();
-    fluid.d->x()->scatter_fwd();
-    _output->humor->write(*fluid.pressure, *fluid.d, time);
-    _output->humor->write(*fluid.velocity, *fluid.d, time);
-  }
+  if (_dynamic && _output->humor)
+    humor->write(*_output->humor, time);
   _output->t_output += MPI_Wtime() - t;
 }
 
@@ -353,17 +286,7 @@ void SolidBlock::summarise(nlohmann::json& summary) const
       max = std::max(max, step[name + "_pressure_mmHg"].get<double>());
     biomarkers::put(summary, name + "_pressure_max_mmHg", max);
   }
-  if (flow)
-  {
-    biomarkers::put(summary, "humor_pressure_range_max_mmHg", flow->pressure_range_max() / mmHg);
-    biomarkers::put(summary, "humor_bernoulli_max_mmHg", flow->bernoulli_max() / mmHg);
-  }
-  if (navier_stokes)
-  {
-    biomarkers::put(summary, "humor_pressure_range_max_mmHg",
-                    navier_stokes->pressure_range_max() / mmHg);
-    biomarkers::put(summary, "humor_speed_max_m_s", navier_stokes->speed_max());
-  }
+  humor->summarise(summary);
 }
 
 void SolidBlock::add_frame(double t, double dt, const solver::NewtonReport& report,
@@ -377,9 +300,7 @@ void SolidBlock::add_frame(double t, double dt, const solver::NewtonReport& repo
   state.push_back({"kinetic_energy_mJ", problem.kinetic_energy()});
   if (problem.viscoelastic())
     state.push_back({"viscous_work_mJ", problem.viscous_work()});
-  if (const auto* humor = problem.humor_inertia())
-    state.push_back(
-        {"humor_kinetic_energy_mJ", humor->kinetic_energy() * problem.symmetry_factor()});
+  humor->energies(state);
   frames->add(t, state,
               {{"dt_ms", dt},
                {"newton_iterations", double(report.iterations)},
@@ -420,8 +341,8 @@ nlohmann::json SolidBlock::save(io::CheckpointWriter& writer) const
                        {"humor_fields", _output && _output->humor ? _output->humor->state()
                                                                   : nlohmann::json()},
                        {"frames", frames ? frames->state() : nlohmann::json()}};
-  if (viscous())
-    state["humor_navier_stokes"] = navier_stokes->save(writer);
+  if (_dynamic)
+    state["humor"] = humor->save(writer);
   if (_closed)
     state["closed"] = {{"pressures", _closed->pressures()},
                        {"targets", _closed->targets()},
@@ -449,13 +370,8 @@ void SolidBlock::restore(const io::CheckpointReader& checkpoint, const nlohmann:
                     state["closed"].value("forces", std::vector<double>()));
   else if (problem.cavities() > 0)
     problem.set_cavity_pressures(_open_pressures);
-  if (flow && _dynamic)
-    flow->start(); // the humor mesh onto the restored wall
-  if (navier_stokes && _dynamic)
-  {
-    navier_stokes->restore(checkpoint, state.at("humor_navier_stokes"));
-    navier_stokes->unknowns().pack();
-  }
+  if (_dynamic) // a meshed humor onto the restored wall
+    humor->restore(checkpoint, state.value("humor", nlohmann::json()));
   _output.emplace(folder, mesh, problem, probes);
   if (const auto& fields = state.at("fields"); !fields.is_null())
     _output->fields.resume(fields);

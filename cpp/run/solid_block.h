@@ -12,7 +12,7 @@
 
 #include "biomarkers/record.h"
 #include "cavity/cavity.h"
-#include "humor_flow/navier_stokes.h"
+#include "humor/humor.h"
 #include "io/moving_fields.h"
 #include "io/output.h"
 #include "run/block.h"
@@ -70,17 +70,13 @@ public:
   void close();
   const cavity::Closed* closed() const { return _closed ? &*_closed : nullptr; }
   cavity::Closed* closed() { return _closed ? &*_closed : nullptr; }
-  /// The humors' flow (cavity.humor_inertia = "flow"), or null.
-  std::unique_ptr<humor_flow::Flow> flow;
-  /// Whether the Newton system is the solid's with the humors' flow: in
-  /// the dynamics.
-  bool flowing() const { return flow && _dynamic; }
-  /// The humor as Navier-Stokes (cavity.humor_inertia = "navier_stokes"), or null.
-  std::unique_ptr<humor_flow::NavierStokes> navier_stokes;
-  /// Whether the Newton system is the solid's coupled to the humor as
-  /// Navier-Stokes: in the dynamics.
-  bool viscous() const { return navier_stokes && _dynamic; }
-  /// The Newton system now: the closed cavities bordered, or open.
+  /// The humor in the cavities (cavity.humor_inertia).
+  std::unique_ptr<humor::Humor> humor;
+  /// The name of the Newton system now if it is the humor's own (in the
+  /// dynamics), else null: the solid's.
+  const char* humor_system() const { return _dynamic ? humor->system_name() : nullptr; }
+  /// The Newton system now: the closed cavities bordered, or open; in the
+  /// dynamics with the humor.
   solver::System system();
   /// Each cavity's pressure [mmHg] and volume [mm^3] now.
   biomarkers::Columns cavity_state() const;

@@ -61,14 +61,11 @@ solver::Newton& RunState::newton(const std::string& name, const std::function<Ma
 
 solver::Newton& RunState::solid_newton()
 {
-  // With the humors' flow, the dynamics' system is the solid's and the
-  // humors' pressure stacked: one AIJ matrix, LU.
-  if (model.solid->flowing())
-    return newton("solid_humor_flow", [&] { return model.solid->flow->create_matrix(); });
-  // As Navier-Stokes: the solid, the humor's velocity, pressure and mesh; LU.
-  if (model.solid->viscous())
-    return newton("solid_humor_navier_stokes",
-                  [&] { return model.solid->navier_stokes->create_matrix(); });
+  // A meshed humor's dynamics: the solid's and the humor's unknowns
+  // stacked (the humor's pressure; or velocity, pressure and mesh), one AIJ
+  // matrix, LU.
+  if (const char* name = model.solid->humor_system())
+    return newton(name, [&] { return model.solid->humor->create_matrix(); });
   // LDL^T (solver.factorisation): the upper triangle and MUMPS' LDL^T of
   // the symmetric matrix it stands for (the follower pressures' skew part
   // is left to the Newton iteration). A preconditioner named on the command

@@ -1,7 +1,7 @@
 // The humors as viscous incompressible Navier-Stokes in ALE form (the
 // air's forms, forms/air_ale.py) on the humor's mesh, two-way coupled to
 // the solid's walls (cpp/fsi): the full equations the hydroelastic
-// pressure (humor_flow::Flow) linearises, for checking it.
+// pressure (humor::Flow) linearises, for checking it.
 #pragma once
 
 #include <cstdint>
@@ -15,7 +15,7 @@
 #include "air/problem.h"
 #include "dynamics/time_step.h"
 #include "fsi/coupled.h"
-#include "humor_flow/flow.h"
+#include "humor/humor.h"
 #include "io/checkpoint.h"
 #include "mesh_motion/problem.h"
 #include "meshio/model.h"
@@ -23,7 +23,7 @@
 #include "solver/monolithic.h"
 #include "solver/newton.h"
 
-namespace nct::humor_flow
+namespace nct::humor
 {
 
 /// The humor as a Navier-Stokes fluid (velocity and pressure, P1/P1 with
@@ -38,7 +38,7 @@ namespace nct::humor_flow
 /// was when the dynamics started (the IOP): p is the humor's pressure
 /// above it. The axis and symmetry planes are slip walls, as is the lid
 /// across an eye's cut, which must be at rest (the cut clamped).
-class NavierStokes
+class NavierStokes final : public Humor
 {
 public:
   /// Pairs the humor's walls with the solid's `walls` groups by place:
@@ -52,17 +52,35 @@ public:
                const Boundaries& boundaries, double density, double viscosity, double speed,
                double stabilisation_time);
 
+  // Humor
+  const char* name() const override { return "navier_stokes"; }
+  void describe(nlohmann::json& summary, io::RunFolder& folder) const override;
   /// The humor's mesh onto the solid's current walls, at rest (u = 0, p = 0).
-  void start();
-  /// The coupled Newton system of the solid and the humor.
-  solver::System system() { return _coupled->system(nullptr); }
-  Mat create_matrix() { return _coupled->create_matrix(); }
+  void start() override;
+  /// The coupled Newton system of the solid and the humor: the humor
+  /// holds its volume, the wall keeps the cavity's pressure as closed.
+  solver::System system(cavity::Closed*, cavity::Open&) override
+  {
+    return _coupled->system(nullptr);
+  }
+  const char* system_name() const override { return "solid_humor_navier_stokes"; }
+  Mat create_matrix() override { return _coupled->create_matrix(); }
   /// The next step: its length and the solid's integrator (the fluid's
   /// BDF2 after the first step).
-  void set_time_step(const dynamics::TimeStep& step);
+  void set_time_step(const dynamics::TimeStep& step) override;
   /// After a converged step: its extremes kept, then the new state becomes
-  /// the old one.
-  void advance();
+  /// the old one (the solid's too).
+  void advance() override;
+  bool predicts() const override { return false; }
+  /// Its mean pressure once started: p is the humor's above the cavity's.
+  double pressure_shift(std::size_t) const override
+  {
+    return _coupled->started() ? mean_pressure() : 0.0;
+  }
+  /// Its velocity and pressure on its moving mesh.
+  void write(io::MovingFields& files, double time) override;
+  /// Its largest pressure range and speed.
+  void summarise(nlohmann::json& summary) const override;
   solver::Monolithic& unknowns() { return _coupled->unknowns(); }
   /// Why the state is not admissible (a folded solid element or humor cell), or empty.
   std::string inadmissible() const { return _coupled->inadmissible(); }
@@ -84,8 +102,8 @@ public:
   const std::map<std::string, double>& timings() const { return _coupled->timings(); }
 
   /// The state a checkpoint holds (the fluid's, the coupling's, the extremes).
-  nlohmann::json save(io::CheckpointWriter& checkpoint) const;
-  void restore(const io::CheckpointReader& checkpoint, const nlohmann::json& state);
+  nlohmann::json save(io::CheckpointWriter& checkpoint) const override;
+  void restore(const io::CheckpointReader& checkpoint, const nlohmann::json& state) override;
 
 private:
   std::unique_ptr<mesh_motion::Problem> _motion;
@@ -94,4 +112,4 @@ private:
   double _range_max = 0, _speed_max = 0, _jacobian_min = 1;
 };
 
-} // namespace nct::humor_flow
+} // namespace nct::humor

@@ -1,4 +1,4 @@
-#include "humor_flow/navier_stokes.h"
+#include "humor/navier_stokes.h"
 
 #include <algorithm>
 #include <limits>
@@ -6,7 +6,9 @@
 
 #include <dolfinx/mesh/utils.h>
 
-namespace nct::humor_flow
+#include "biomarkers/registry.h"
+
+namespace nct::humor
 {
 namespace
 {
@@ -44,7 +46,7 @@ meshio::Tagged retagged(const meshio::Tagged& humor, const Boundaries& b, std::v
   {
     const int k = meshio::normal_axis(mesh, *humor.facets, g);
     if (k < 0)
-      throw std::invalid_argument("humor_flow::NavierStokes: a symmetry plane or lid (group "
+      throw std::invalid_argument("humor::NavierStokes: a symmetry plane or lid (group "
                                   + std::to_string(g) + ") is not normal to an axis");
     normals.push_back(k);
     return normal_x + k;
@@ -70,9 +72,10 @@ NavierStokes::NavierStokes(solid::Problem& solid, const meshio::Tagged& solid_me
                            const std::vector<std::int32_t>& walls, const meshio::Tagged& humor,
                            const Boundaries& boundaries, double density, double viscosity,
                            double speed, double stabilisation_time)
+    : Humor(solid)
 {
   if (!boundaries.open.empty())
-    throw std::invalid_argument("humor_flow::NavierStokes: a closed humor only");
+    throw std::invalid_argument("humor::NavierStokes: a closed humor only");
   std::vector<int> normals;
   const meshio::Tagged h = retagged(humor, boundaries, normals);
   const section::Dimension dimension = solid.dimension();
@@ -96,7 +99,33 @@ NavierStokes::NavierStokes(solid::Problem& solid, const meshio::Tagged& solid_me
                                             fsi::Interface{walls, {wall}}, true, nullptr, "humor");
 }
 
-void NavierStokes::start() { _coupled->start(); }
+void NavierStokes::start()
+{
+  _coupled->start();
+  _coupled->unknowns().pack();
+}
+
+void NavierStokes::describe(nlohmann::json& summary, io::RunFolder& folder) const
+{
+  describe_mesh(summary, folder, *_fluid->up->function_space()->mesh(), dofs(),
+                "velocity and pressure", wall_nodes(), name());
+}
+
+void NavierStokes::write(io::MovingFields& files, double time)
+{
+  _coupled->unknowns().unpack();
+  _fluid->update_fields();
+  _fluid->d->x()->scatter_fwd();
+  files.write(*_fluid->pressure, *_fluid->d, time);
+  files.write(*_fluid->velocity, *_fluid->d, time);
+}
+
+void NavierStokes::summarise(nlohmann::json& summary) const
+{
+  constexpr double mmHg = 1.333224e-4; // MPa
+  biomarkers::put(summary, "humor_pressure_range_max_mmHg", _range_max / mmHg);
+  biomarkers::put(summary, "humor_speed_max_m_s", _speed_max);
+}
 
 void NavierStokes::set_time_step(const dynamics::TimeStep& step) { _coupled->set_time_step(step, 2); }
 
@@ -142,6 +171,7 @@ void NavierStokes::restore(const io::CheckpointReader& checkpoint, const nlohman
   _coupled->restore(checkpoint, state.at("coupled"));
   const auto& e = state.at("extremes");
   _range_max = e[0], _speed_max = e[1], _jacobian_min = e[2];
+  _coupled->unknowns().pack();
 }
 
-} // namespace nct::humor_flow
+} // namespace nct::humor

@@ -18,6 +18,7 @@
 #include <petscmat.h>
 
 #include "cavity/cavity.h"
+#include "humor/humor.h"
 #include "io/moving_fields.h"
 #include "mesh_motion/problem.h"
 #include "meshio/model.h"
@@ -25,21 +26,8 @@
 #include "solver/monolithic.h"
 #include "solver/newton.h"
 
-namespace nct::humor_flow
+namespace nct::humor
 {
-
-/// The humor mesh's groups: per cavity, its volume groups and the facet
-/// groups it shares with the solid's wall of that cavity; the axis of an
-/// axisymmetric section and the symmetry planes, on which the humor mesh
-/// slides; openings at the cavity's pressure (p~ = 0, the mesh held); the
-/// lid on the solid's cut, which moves with the cut face's mean normal
-/// displacement (forms/support.py). Every other boundary facet is a rigid
-/// wall (dp/dn = 0, the mesh held).
-struct Boundaries
-{
-  std::vector<std::vector<std::int32_t>> volumes, walls; ///< per cavity
-  std::vector<std::int32_t> axis, symmetry, open, lid;
-};
 
 /// The humors' pressure p = P_c + p~ (P_c the closed cavity's multiplier)
 /// and the coupled system of the solid, its closed cavities and p~.
@@ -52,7 +40,7 @@ struct Boundaries
 /// every step, from the last converged wall: its geometry lags the wall by
 /// a step within the step's Newton iterations (the Laplacian's dependence
 /// on the wall's shape is not differentiated). Acts in the dynamics only.
-class Flow
+class Flow final : public Humor
 {
 public:
   /// Pairs the humor's wall nodes with the solid's by place: call on the
@@ -87,20 +75,33 @@ public:
 
   /// At the start of the dynamics: the humor mesh onto the solid's current
   /// wall, p~ = 0.
-  void start();
-  /// After a converged step: the humor mesh follows the wall. Throws
-  /// std::runtime_error, naming the place, if a humor cell folded.
-  void advance();
+  void start() override;
+  /// After a converged step of a system it joined: the humor mesh follows
+  /// the wall. Throws std::runtime_error, naming the place, if a humor
+  /// cell folded.
+  void follow();
   /// Why the current wall is not admissible for the humor, empty if it is:
   /// the humor's mesh would fold following it (its place and how far).
   /// Collective; the humor's mesh stays where it is.
   std::string inadmissible();
 
-  /// The solid with its closed cavities (null: open) and the humor, alone
-  /// (no air): a Newton system of its own, on unknowns(), and a matrix
-  /// with its pattern (AIJ, assembled once).
-  solver::System system(cavity::Closed* closed);
-  Mat create_matrix();
+  // Humor
+  const char* name() const override { return "flow"; }
+  void describe(nlohmann::json& summary, io::RunFolder& folder) const override;
+  /// The solid with its closed cavities (null: open, at their pressures)
+  /// and the humor, alone (no air): a Newton system of its own, on
+  /// unknowns(), and a matrix with its pattern (AIJ, assembled once).
+  solver::System system(cavity::Closed* closed, cavity::Open& open) override;
+  const char* system_name() const override { return "solid_humor_flow"; }
+  Mat create_matrix() override;
+  /// The solid's step, then the humor mesh follows the wall.
+  void advance() override;
+  /// The solid's predictor (u and p~ stacked).
+  void predict() override;
+  /// Its largest pressure range and Bernoulli term.
+  void summarise(nlohmann::json& summary) const override;
+  /// The coupled air's fourth field: p~, its wall and its lid.
+  fsi::Joined* joined() override { return &_in_air; }
   /// The stacked unknowns of system() (fields: solid, humor_flow).
   solver::Monolithic& unknowns() { return *_own_unknowns; }
 
@@ -108,7 +109,7 @@ public:
   std::shared_ptr<dolfinx::fem::Function<double>> p;
   /// p~ at `time` into `files` (its file humor_pressure.xdmf), on the
   /// humor's mesh where it is now. Collective.
-  void write(io::MovingFields& files, double time);
+  void write(io::MovingFields& files, double time) override;
   /// Unknowns of p~ (all ranks).
   std::int64_t dofs() const;
   /// Wall nodes paired with the solid's.
@@ -122,7 +123,7 @@ public:
   double bernoulli_max() const { return _bernoulli_max; }
   /// The humor's kinetic energy rho/2 integral |w|^2 dV at the last
   /// converged step, w as above [mJ, meshed part]. Collective.
-  double kinetic_energy() const;
+  double kinetic_energy() const override;
   /// The humor's smallest cell volume now over as built (negative: folded),
   /// and where (current coordinates). Collective.
   std::pair<double, std::array<double, 3>> smallest_cell_ratio() const;
@@ -132,6 +133,26 @@ public:
   const std::map<std::string, double>& timings() const { return _timings; }
 
 private:
+  /// The flow as the coupled air's fourth field, at the place it was given.
+  struct InAir final : fsi::Joined
+  {
+    explicit InAir(Flow& flow) : flow(flow) {}
+    Flow& flow;
+    Placement at;
+    solver::Monolithic::Field field() const override { return flow.field(); }
+    void place(const solver::Monolithic& U, std::size_t solid, std::size_t own) override
+    {
+      at = flow.place(U, solid, own);
+    }
+    void add_residual(std::span<double> b_solid, std::span<double> b_own) override
+    {
+      flow.add_residual(b_solid, b_own);
+    }
+    void add_jacobian(Mat A) override { flow.add_jacobian(at, A); }
+    std::string inadmissible() override { return flow.inadmissible(); }
+    void advance() override { flow.follow(); }
+  };
+  InAir _in_air{*this};
   /// A humor wall node: its cavity and place as built.
   struct Pair
   {
@@ -165,7 +186,6 @@ private:
   /// largest range of p~ and Bernoulli term so far.
   void measure_linearisation();
 
-  solid::Problem& _solid;
   std::shared_ptr<dolfinx::mesh::Mesh> _humor_mesh;
   std::vector<double> _x_built; ///< the humor mesh's geometry as built
   std::vector<double> _cell_volume_built; ///< per local cell, signed
@@ -199,7 +219,6 @@ private:
   /// system()'s unknowns and their places.
   std::unique_ptr<solver::Monolithic> _own_unknowns;
   Placement _own;
-  std::vector<double> _no_unknowns;
 
   /// The lid (forms/humor_flow.py); without one, the forms are null.
   std::shared_ptr<dolfinx::fem::Form<double>> _cut_normal, _cut_area, _cut_flux, _cut_motion,
@@ -215,4 +234,4 @@ private:
   double _range_max = 0, _bernoulli_max = 0;
 };
 
-} // namespace nct::humor_flow
+} // namespace nct::humor

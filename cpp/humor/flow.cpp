@@ -1,4 +1,4 @@
-#include "humor_flow/flow.h"
+#include "humor/flow.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,10 +15,11 @@
 #include "humor_flow_p2_full.h"
 #include "humor_flow_p2_full_axisymmetric.h"
 #include "humor_flow_p2_full_plane.h"
+#include "biomarkers/registry.h"
 #include "form_tags.h"
 #include "io/format.h"
 
-namespace nct::humor_flow
+namespace nct::humor
 {
 namespace
 {
@@ -139,7 +140,7 @@ std::vector<double> vertex_places(const fem::FunctionSpace& V)
 
 Flow::Flow(solid::Problem& solid, const meshio::Tagged& humor, const Boundaries& boundaries,
            double density)
-    : _solid(solid), _humor_mesh(humor.mesh), _x_built(humor.mesh->geometry().x().begin(),
+    : Humor(solid), _humor_mesh(humor.mesh), _x_built(humor.mesh->geometry().x().begin(),
                                                        humor.mesh->geometry().x().end()),
       _cell_volume_built(cell_volumes(*humor.mesh)), _density(density)
 {
@@ -657,44 +658,11 @@ Mat Flow::create_matrix()
   return _own_unknowns->create_matrix([this](Mat P) { own_jacobian(P); });
 }
 
-solver::System Flow::system(cavity::Closed* closed)
+solver::System Flow::system(cavity::Closed* closed, cavity::Open&)
 {
-  solver::System s;
-  s.x = &_own_unknowns->x();
-  s.y = closed ? closed->unknowns() : &_no_unknowns;
-  s.residual = [this, closed](la::Vector<double>& b, std::vector<double>& g)
-  {
-    _own_unknowns->unpack();
-    if (closed)
-      closed->apply();
-    residual(b);
-    if (closed)
-      closed->constraints(g);
-  };
-  s.jacobian = [this, closed](Mat A)
-  {
-    _own_unknowns->unpack();
-    if (closed)
-      closed->apply();
-    MatZeroEntries(A);
-    own_jacobian(A);
-    MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
-    MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
-  };
-  if (closed)
-    s.border = [this, closed](std::vector<la::Vector<double>>& B,
-                              std::vector<la::Vector<double>>& C, std::vector<double>& D)
-    {
-      std::vector<la::Vector<double>> Bs(B.size(), *_b_solid), Cs(C.size(), *_b_solid);
-      closed->border(Bs, Cs, D);
-      for (std::size_t i = 0; i < B.size(); ++i)
-      {
-        std::fill(B[i].mutable_array().begin(), B[i].mutable_array().end(), 0.0);
-        std::fill(C[i].mutable_array().begin(), C[i].mutable_array().end(), 0.0);
-        _own_unknowns->insert(0, Bs[i].array(), B[i]);
-        _own_unknowns->insert(0, Cs[i].array(), C[i]);
-      }
-    };
+  solver::System s = solver::bordered(
+      *_own_unknowns, closed, *_b_solid, [this](la::Vector<double>& b) { residual(b); },
+      [this](Mat A) { own_jacobian(A); });
   s.inadmissible = [this]
   {
     const auto w = _solid.smallest_jacobian();
@@ -884,6 +852,32 @@ double Flow::kinetic_energy() const
 
 void Flow::advance()
 {
+  _own_unknowns->unpack();
+  _solid.advance();
+  follow();
+}
+
+void Flow::predict()
+{
+  _own_unknowns->unpack();
+  _solid.predict();
+  _own_unknowns->pack();
+}
+
+void Flow::describe(nlohmann::json& summary, io::RunFolder& folder) const
+{
+  describe_mesh(summary, folder, *_humor_mesh, dofs(), "pressure", wall_nodes(), name());
+}
+
+void Flow::summarise(nlohmann::json& summary) const
+{
+  constexpr double mmHg = 1.333224e-4; // MPa
+  biomarkers::put(summary, "humor_pressure_range_max_mmHg", _range_max / mmHg);
+  biomarkers::put(summary, "humor_bernoulli_max_mmHg", _bernoulli_max / mmHg);
+}
+
+void Flow::follow()
+{
   measure_linearisation();
   follow_wall();
   // The Newton solve's inadmissible() keeps a folding step from converging.
@@ -938,4 +932,4 @@ void Flow::write(io::MovingFields& files, double time)
 
 std::int64_t Flow::dofs() const { return _own_unknowns->size_global(1); }
 
-} // namespace nct::humor_flow
+} // namespace nct::humor
