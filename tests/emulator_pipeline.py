@@ -75,7 +75,7 @@ def study(name, n, seed):
                          factors)
     design.write_design(os.path.join(out, name + "-design.csv"), rows, factors)
     folder = os.path.join(out, name)
-    subprocess.run([nct, "study", toml, "--out", folder], check=True, stdout=subprocess.DEVNULL)
+    subprocess.run([nct, "study", toml, "--out", folder, "--no-report"], check=True, stdout=subprocess.DEVNULL)
     return folder, rows
 
 
@@ -159,7 +159,7 @@ with open(cohort) as f:
     text = f.read().replace('[cohort]\ntable = "patients.csv"\n', "")
 with open(cohort, "w") as f:
     f.write(text + '\n[cohort]\ntable = "patients.csv"\n')
-subprocess.run([nct, "fit", cohort, "--out", os.path.join(out, "cohort")], check=True,
+subprocess.run([nct, "fit", cohort, "--out", os.path.join(out, "cohort"), "--no-report"], check=True,
                stdout=subprocess.DEVNULL)
 result = read_csv(os.path.join(out, "cohort", "cohort.csv"), numeric=False)
 inside = sum(result[f"{p}_inside"][i] in ("1", "true", "True")
@@ -183,7 +183,7 @@ with open(single, "w") as f:
                          f"\"geometry.cornea_central_thickness={truths[0][2]:.6g}\"]")
             .replace('curve = "apex.csv"', f'curve = "{first}/apex.csv"')
             .replace('profile = "profiles.csv"', f'profile = "{first}/profiles.csv"'))
-subprocess.run([nct, "fit", single, "--out", os.path.join(out, "confirm")], check=True,
+subprocess.run([nct, "fit", single, "--out", os.path.join(out, "confirm"), "--no-report"], check=True,
                stdout=subprocess.DEVNULL)
 with open(os.path.join(out, "confirm", "fit.json")) as f:
     confirmation = json.load(f)["confirmation"]

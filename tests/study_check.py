@@ -75,7 +75,7 @@ def write_cases(failed=None):
 
 
 def nct_study():
-    r = subprocess.run([nct, "study", study, "--out", out], capture_output=True, text=True)
+    r = subprocess.run([nct, "study", study, "--out", out, "--no-report"], capture_output=True, text=True)
     print(r.stdout, r.stderr)
     return r.returncode
 
@@ -191,7 +191,7 @@ for c, (sets, hc) in enumerate(cases):
     os.makedirs(d)
     json.dump({"case": f"case-{c + 1:03d}", "sets": sets}, open(os.path.join(d, "case.json"), "w"))
     json.dump({"status": "converged", "hc_time_ms": hc}, open(os.path.join(d, "summary.json"), "w"))
-r = subprocess.run([nct, "study", study, "--out", ofat_out], capture_output=True, text=True)
+r = subprocess.run([nct, "study", study, "--out", ofat_out, "--no-report"], capture_output=True, text=True)
 print(r.stdout, r.stderr)
 assert r.returncode == 0, f"ofat: nct study exited with {r.returncode}"
 out = ofat_out

@@ -16,7 +16,7 @@ from nct.folders import read_json  # noqa: E402
 from nct.tables import read_csv  # noqa: E402
 
 nct, study, out = sys.argv[1:4]
-r = subprocess.run([nct, "study", study, "--out", out], capture_output=True, text=True)
+r = subprocess.run([nct, "study", study, "--out", out, "--no-report"], capture_output=True, text=True)
 print(r.stdout, r.stderr)
 assert r.returncode == 0, f"nct study exited with {r.returncode}"
 

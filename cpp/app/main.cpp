@@ -2,9 +2,12 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "biomarkers/registry.h"
 #include "fit/fit.h"
@@ -54,7 +57,7 @@ void test_divergence(std::vector<std::string>& sets)
 /// The command line of `nct check` and `nct run`.
 struct SceneArgs
 {
-  std::string scene_file, out, resume, petsc;
+  std::string scene_file, out, resume, petsc, cases;
   std::vector<std::string> sets;
   bool no_report = false;
 };
@@ -89,8 +92,14 @@ struct DescribeArgs
 CLI::App* add_check(CLI::App& app, SceneArgs& a)
 {
   auto* check = app.add_subcommand("check", "validate a scene file and exit");
-  check->add_option("scene", a.scene_file, "scene file (TOML)")->required();
+  auto* scene = check->add_option("scene", a.scene_file, "scene file (TOML)");
   check->add_option("--set", a.sets, "override a key: section.key=value");
+  check->add_option("--cases", a.cases,
+                    "check many scenes in one process: a file of JSON lines "
+                    "{\"scene\": FILE, \"sets\": [...]}; each refused one is said as "
+                    "'case I:' and its error (exit 2)")
+      ->excludes(scene)
+      ->check(CLI::ExistingFile);
   return check;
 }
 
@@ -247,6 +256,31 @@ void write_page(const std::filesystem::path& out, int rank)
 /// nct check or nct run (`run`) of a scene, on the ranks of this MPI job;
 /// a run's page at its end, a finished or a diverged one's. Its exit
 /// code: 2 for bad input, 3 when the run diverged.
+/// `nct check --cases FILE`: every case read as `nct check` reads one;
+/// each refused one said as "case I:" and its error. Exit 2 if any is.
+int check_cases(const std::string& file, int rank)
+{
+  std::ifstream in(file);
+  int code = 0;
+  std::size_t i = 0;
+  for (std::string line; std::getline(in, line); ++i)
+  {
+    const auto c = nlohmann::json::parse(line);
+    try
+    {
+      nct::read(MPI_COMM_WORLD, c.at("scene").get<std::string>(),
+                c.at("sets").get<std::vector<std::string>>());
+    }
+    catch (const nct::scene::Error& e)
+    {
+      if (rank == 0)
+        std::cerr << "case " << i << ":\n" << "error: " << e.what() << std::endl;
+      code = 2;
+    }
+  }
+  return code;
+}
+
 int run_scene(char* argv0, SceneArgs& a, bool run)
 {
   nct::Runtime runtime(argv0);
@@ -255,6 +289,10 @@ int run_scene(char* argv0, SceneArgs& a, bool run)
   std::filesystem::path out;
   try
   {
+    if (!run && !a.cases.empty())
+      return check_cases(a.cases, rank);
+    if (a.scene_file.empty())
+      throw nct::scene::Error("nct check: give a scene file, or --cases FILE");
     if (run)
       test_divergence(a.sets);
     const nct::Input input = nct::read(MPI_COMM_WORLD, a.scene_file, a.sets);

@@ -131,12 +131,10 @@ std::string to_csv(const nlohmann::ordered_json& rows)
 /// Every patient's scene at the start must pass nct check (its eye's
 /// geometry with its thickness, radius...) before anything runs: a
 /// scene::Error naming each row that does not.
-void check_patients(const Fit& fit, const Options& o, int at_once)
+void check_patients(const Fit& fit, const Options& o)
 {
   const Cohort& cohort = *fit.cohort;
-  const fs::path dir = o.out / "check";
-  fs::create_directories(dir);
-  std::vector<jobs::Job> checks;
+  std::vector<jobs::SceneCase> cases;
   for (const Patient& p : cohort.patients)
   {
     std::vector<std::string> sets = fit.sets;
@@ -144,21 +142,30 @@ void check_patients(const Fit& fit, const Options& o, int at_once)
     for (const Parameter& q : fit.parameters)
       for (const auto& k : q.keys)
         sets.push_back(k + "=" + io::literal(q.start));
-    checks.push_back({jobs::nct_command(o.program, "check", fit.scene, sets, {}),
-                      dir / (p.id + ".log"), 1, fit.mpiexec, nullptr});
+    cases.push_back({fit.scene, sets});
+  }
+  std::vector<std::pair<std::size_t, std::string>> refused;
+  try
+  {
+    refused = jobs::check_scenes(o.program, cases, o.out / "check");
+  }
+  catch (const std::runtime_error&)
+  {
+    if (jobs::interrupted())
+      return; // the cohort stops
+    throw;
   }
   std::string problems;
-  jobs::run(checks, at_once, [&](std::size_t i, int code)
+  for (const auto& [i, why] : refused)
   {
     const Patient& p = cohort.patients[i];
-    if (code != 0 && !jobs::interrupted())
-      problems += format("%s%s row %zu (patient %s): the start's scene: %s",
-                         problems.empty() ? "" : "\n", cohort.table.string().c_str(), p.row,
-                         p.id.c_str(), jobs::tail(jobs::read_text(checks[i].log), 2).c_str());
-  });
+    problems += format("%s%s row %zu (patient %s): the start's scene: %s",
+                       problems.empty() ? "" : "\n", cohort.table.string().c_str(), p.row,
+                       p.id.c_str(), jobs::tail(why, 2).c_str());
+  }
   if (!problems.empty())
     throw scene::Error(problems);
-  fs::remove_all(dir);
+  fs::remove_all(o.out / "check");
 }
 
 /// How the jobs (forward runs at once) are shared among the patients
@@ -290,7 +297,7 @@ int run_cohort(const Fit& fit, const Options& o)
   // Slurm must take the options before any patient's fit starts.
   jobs::launcher_for(fit.launcher, o.launcher, o.out, fit.ranks, "fit", fit.file);
   const Sharing sharing = share_jobs(fit, o);
-  check_patients(fit, o, sharing.jobs);
+  check_patients(fit, o);
   if (jobs::interrupted())
     return 130;
 

@@ -15,6 +15,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
+#include "io/output.h"
+
 extern char** environ;
 
 namespace nct::jobs
@@ -173,6 +177,38 @@ std::vector<std::string> nct_command(const fs::path& program, const std::string&
   if (verb == "run") // a case or a forward run: the study's or fit's page covers it
     argv.insert(argv.end(), {"--out", out.string(), "--no-report"});
   return argv;
+}
+
+std::vector<std::pair<std::size_t, std::string>>
+check_scenes(const fs::path& program, const std::vector<SceneCase>& cases, const fs::path& dir)
+{
+  if (cases.empty())
+    return {};
+  fs::create_directories(dir);
+  const fs::path list = dir / "check.jsonl", log = dir / "check.log";
+  std::string lines;
+  for (const auto& c : cases)
+    lines += nlohmann::json{{"scene", fs::absolute(c.scene).string()}, {"sets", c.sets}}.dump()
+             + "\n";
+  io::write_atomic(list, lines);
+  int code = -1;
+  const Job job{{program.string(), "check", "--cases", list.string()}, log, 1, "", nullptr};
+  if (!run({job}, 1, [&](std::size_t, int c) { code = c; }))
+    throw std::runtime_error("interrupted while checking the cases");
+  // Each refused case: a line "case I:", then what nct check says of it.
+  std::vector<std::pair<std::size_t, std::string>> refused;
+  std::istringstream text(read_text(log));
+  for (std::string line; std::getline(text, line);)
+    if (line.rfind("case ", 0) == 0 && !line.empty() && line.back() == ':')
+      refused.push_back({std::stoul(line.substr(5)), ""});
+    else if (!refused.empty() && line.rfind("note: ", 0) != 0)
+      refused.back().second += (refused.back().second.empty() ? "" : "\n") + line;
+  if (code != 0 && refused.empty())
+    throw std::runtime_error("nct check --cases failed (exit " + std::to_string(code)
+                             + "): " + tail(read_text(log), 3));
+  fs::remove(list);
+  fs::remove(log);
+  return refused;
 }
 
 std::string read_text(const fs::path& file)

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace nct::jobs
@@ -75,6 +76,21 @@ std::vector<std::string> nct_command(const std::filesystem::path& program, const
                                      const std::filesystem::path& scene,
                                      const std::vector<std::string>& sets,
                                      const std::filesystem::path& out);
+
+/// A scene with its overrides, as `nct check` takes it.
+struct SceneCase
+{
+  std::filesystem::path scene;
+  std::vector<std::string> sets;
+};
+
+/// Checks every case by one `nct check --cases FILE` (FILE, in `dir`, a
+/// JSON line per case): what `nct check` says of each refused case, by its
+/// index (empty: all check out). Throws std::runtime_error when
+/// interrupted or when the check itself fails without naming a case.
+std::vector<std::pair<std::size_t, std::string>>
+check_scenes(const std::filesystem::path& program, const std::vector<SceneCase>& cases,
+             const std::filesystem::path& dir);
 
 /// The whole text of a file ("" when it cannot be read).
 std::string read_text(const std::filesystem::path& file);

@@ -71,37 +71,32 @@ void print_plan(const Study& s, const Options& o, const jobs::Launcher& launcher
 /// Every case to run must pass `nct check` (the eye's geometry, the
 /// puff...) before any runs: a scene::Error naming the first that does
 /// not. False when interrupted.
-bool check_cases(const Study& s, const Options& o, const std::vector<std::size_t>& todo,
-                 int at_once)
+bool check_cases(const Study& s, const Options& o, const std::vector<std::size_t>& todo)
 {
-  std::vector<jobs::Job> checks;
+  std::vector<jobs::SceneCase> cases;
   for (std::size_t c : todo)
-    checks.push_back({jobs::nct_command(o.program, "check", s.cases[c].scene, s.cases[c].sets, {}),
-                      o.out / "cases" / (s.case_name(c) + ".check.log"), 1, s.mpiexec, nullptr});
-  std::string bad;
-  const bool checked = jobs::run(checks, std::max(at_once * s.ranks, 1),
-                                 [&](std::size_t i, int code)
-                                 {
-                                   if (code != 0 && bad.empty())
-                                   {
-                                     std::string why = tail(read_text(checks[i].log), 3);
-                                     if (why.rfind("error: ", 0) == 0)
-                                       why.erase(0, 7);
-                                     bad = s.case_name(todo[i]) + " ("
-                                           + s.describe(s.cases[todo[i]]) + "): " + why;
-                                   }
-                                   fs::remove(checks[i].log);
-                                 });
-  if (!checked)
+    cases.push_back({s.cases[c].scene, s.cases[c].sets});
+  std::vector<std::pair<std::size_t, std::string>> refused;
+  try
   {
+    refused = jobs::check_scenes(o.program, cases, o.out / "cases");
+  }
+  catch (const std::runtime_error& e)
+  {
+    if (!jobs::interrupted())
+      throw;
     std::cerr << "study: interrupted while checking the cases" << std::endl;
     return false;
   }
-  if (!bad.empty())
+  if (!refused.empty())
   {
-    while (!bad.empty() && bad.back() == '\n')
-      bad.pop_back();
-    throw Error(s.file.string() + ": " + bad);
+    const std::size_t c = todo[refused[0].first];
+    std::string why = tail(refused[0].second, 3);
+    if (why.rfind("error: ", 0) == 0)
+      why.erase(0, 7);
+    while (!why.empty() && why.back() == '\n')
+      why.pop_back();
+    throw Error(s.file.string() + ": " + s.case_name(c) + " (" + s.describe(s.cases[c]) + "): " + why);
   }
   return true;
 }
@@ -199,7 +194,7 @@ int run(const Study& s, const Options& o)
   const std::vector<std::size_t> todo = cases_to_run(s, o, cases, results);
   print_plan(s, o, launcher, at_once, s.cases.size() - todo.size());
   jobs::catch_interrupts();
-  if (!check_cases(s, o, todo, at_once))
+  if (!check_cases(s, o, todo))
     return 130;
   if (o.dry_run)
   {
