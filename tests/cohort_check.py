@@ -29,7 +29,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "python"))
-from nct import cohort, readings  # noqa: E402
+from nct import cohort_figures, readings  # noqa: E402
 from nct.folders import read_json  # noqa: E402
 from nct.tables import read_csv  # noqa: E402
 
@@ -127,5 +127,5 @@ page = (folder / "report.html").read_text()
 for name in ("cohort-iop", "cohort-age", "cohort-recovery"):
     assert f'data-name="{name}"' in page, name
 assert not list(folder.glob("patients/*/report.html"))
-assert "truths inside their 95 % intervals" in cohort.recovery(folder)[0]
+assert "truths inside their 95 % intervals" in cohort_figures.recovery(folder)[0]
 print("cohort: OK")

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "jobs/jobs.h"
+#include "io/text.h"
 #include "jobs/run_cache.h"
 
 namespace fs = std::filesystem;
@@ -75,7 +76,7 @@ TEST(RunCache, NctRunStartsAfreshWithItsRecord)
   ASSERT_TRUE(job.prepare);
   job.prepare();
   EXPECT_FALSE(fs::exists(dir / "case-001" / "half-written.csv"));
-  EXPECT_EQ(nct::jobs::read_text(dir / "case-001" / "case.json"),
+  EXPECT_EQ(nct::io::read_text(dir / "case-001" / "case.json"),
             "{\n  \"case\": \"case-001\",\n  \"scene\": \"/scenes/a.toml\",\n  \"sets\": [\n"
             "    \"x.y=1\"\n  ]\n}\n");
 }

@@ -11,6 +11,7 @@
 #include "fit/fit.h"
 #include "io/format.h"
 #include "io/output.h"
+#include "io/text.h"
 #include "io/toml_input.h"
 #include "jobs/jobs.h"
 #include "jobs/launcher_input.h"
@@ -224,8 +225,8 @@ std::string patient_line(const Patient& p, const fs::path& dir, int code)
     return line + "interrupted";
   if (!fs::exists(dir / "fit.json"))
     return line + format("failed (exit %d): %s", code,
-                         jobs::tail(jobs::read_text(dir / "fit.log"), 2).c_str());
-  const auto r = nlohmann::json::parse(jobs::read_text(dir / "fit.json"));
+                         jobs::tail(io::read_text(dir / "fit.log"), 2).c_str());
+  const auto r = nlohmann::json::parse(io::read_text(dir / "fit.json"));
   line += r["status"].get<std::string>();
   for (auto& q : r["parameters"])
     line += format("  %s %.5g", q["label"].get<std::string>().c_str(), q["value"].get<double>())
@@ -251,7 +252,7 @@ int report_cohort(const Fit& fit, const Options& o, const jobs::RunCache& fits,
     std::string status = "failed";
     if (fs::exists(fits.path(p.id) / "fit.json"))
     {
-      result = nlohmann::json::parse(jobs::read_text(fits.path(p.id) / "fit.json"));
+      result = nlohmann::json::parse(io::read_text(fits.path(p.id) / "fit.json"));
       status = result["status"];
     }
     converged += status == "converged";
@@ -290,7 +291,7 @@ int run_cohort(const Fit& fit, const Options& o)
   const Cohort& cohort = *fit.cohort;
   const jobs::RunCache fits(o.out / "patients", "patient.json", "fit.json");
   if (fs::exists(o.out / "fit.toml")
-      && jobs::read_text(o.out / "fit.toml") != jobs::read_text(fit.file))
+      && io::read_text(o.out / "fit.toml") != io::read_text(fit.file))
     throw scene::Error(fit.file.string() + ": " + o.out.string() + " holds another cohort (its "
                        "fit.toml differs); give a new --out or remove it");
   jobs::catch_interrupts();
@@ -314,7 +315,7 @@ int run_cohort(const Fit& fit, const Options& o)
     std::cout << "cohort: every patient's fit checks out; nothing run (--dry-run)" << std::endl;
     return 0;
   }
-  io::write_atomic(o.out / "fit.toml", jobs::read_text(fit.file));
+  io::write_atomic(o.out / "fit.toml", io::read_text(fit.file));
 
   int finished = kept;
   const bool complete = jobs::run(todo, sharing.at_once, [&](std::size_t k, int code)

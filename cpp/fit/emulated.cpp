@@ -16,10 +16,11 @@
 #include "fit/forward.h"
 #include "fit/mcmc.h"
 #include "fit/readings.h"
-#include "fit/report.h"
+#include "fit/results.h"
 #include "fit/solver.h"
 #include "io/format.h"
 #include "io/output.h"
+#include "io/text.h"
 #include "io/toml_input.h"
 #include "jobs/jobs.h"
 #include "jobs/launcher_input.h"
@@ -104,7 +105,7 @@ Discrepancy read_discrepancy(const Fit& fit)
   const std::string where = fit.discrepancy_file.string() + ": ";
   try
   {
-    const auto j = nlohmann::json::parse(jobs::read_text(fit.discrepancy_file));
+    const auto j = nlohmann::json::parse(io::read_text(fit.discrepancy_file));
     if (j.at("format") != "nct-discrepancy-1")
       throw std::invalid_argument("format is not nct-discrepancy-1");
     j.at("mean_mm").get_to(d.mean);
@@ -722,7 +723,7 @@ nlohmann::json correct(const Fit& fit, const Options& o, const Outcome& outcome)
   nlohmann::json out = {{"folder", fs::absolute(options.out).string()}, {"exit_code", code}};
   if (fs::exists(options.out / "fit.json"))
   {
-    const auto answer = nlohmann::json::parse(jobs::read_text(options.out / "fit.json"));
+    const auto answer = nlohmann::json::parse(io::read_text(options.out / "fit.json"));
     out["status"] = answer["status"];
     out["forward_runs"] = answer["forward_runs"];
     out["parameters"] = nlohmann::json::array();
@@ -802,7 +803,7 @@ int run_emulated(const Fit& fit, const Options& o)
   const auto start = std::chrono::steady_clock::now();
   fs::create_directories(o.out);
   if (fs::exists(o.out / "fit.toml")
-      && jobs::read_text(o.out / "fit.toml") != jobs::read_text(fit.file))
+      && io::read_text(o.out / "fit.toml") != io::read_text(fit.file))
     throw scene::Error(fit.file.string() + ": " + o.out.string() + " holds another fit (its "
                        "fit.toml differs); give a new --out or remove it");
   const EmulatedLikelihood l(fit);
@@ -818,7 +819,7 @@ int run_emulated(const Fit& fit, const Options& o)
               << std::endl;
     return 0;
   }
-  io::write_atomic(o.out / "fit.toml", jobs::read_text(fit.file));
+  io::write_atomic(o.out / "fit.toml", io::read_text(fit.file));
   jobs::catch_interrupts();
 
   std::vector<double> theta;

@@ -1,6 +1,6 @@
 // Running a fit (cpp/fit/fit.h): the start checked, the Levenberg-Marquardt
 // iterations (Ceres) over the forward runs (fit/forward.h, fit/cost.h),
-// the answer's uncertainty, and its report (fit/report.h).
+// the answer's uncertainty, and its results (fit/results.h).
 #include "fit/fit.h"
 
 #include <chrono>
@@ -13,10 +13,11 @@
 #include "fit/emulated.h"
 #include "fit/forward.h"
 #include "fit/readings.h"
-#include "fit/report.h"
+#include "fit/results.h"
 #include "fit/solver.h"
 #include "io/format.h"
 #include "io/output.h"
+#include "io/text.h"
 #include "jobs/jobs.h"
 #include "jobs/launcher_input.h"
 #include "scene/scene.h"
@@ -42,7 +43,7 @@ bool check_start(const Fit& fit, const Options& o, const std::vector<std::string
     return false;
   if (code != 0)
   {
-    std::string why = jobs::tail(jobs::read_text(log), 3);
+    std::string why = jobs::tail(io::read_text(log), 3);
     throw scene::Error(fit.file.string() + ": the start's scene: " + why);
   }
   fs::remove(log);
@@ -86,7 +87,7 @@ int run(const Fit& fit, const Options& o)
   const auto start = std::chrono::steady_clock::now();
   fs::create_directories(o.out);
   if (fs::exists(o.out / "fit.toml")
-      && jobs::read_text(o.out / "fit.toml") != jobs::read_text(fit.file))
+      && io::read_text(o.out / "fit.toml") != io::read_text(fit.file))
     throw scene::Error(fit.file.string() + ": " + o.out.string() + " holds another fit (its "
                        "fit.toml differs); give a new --out or remove it");
   jobs::catch_interrupts();
@@ -105,7 +106,7 @@ int run(const Fit& fit, const Options& o)
               << std::endl;
     return 0;
   }
-  io::write_atomic(o.out / "fit.toml", jobs::read_text(fit.file));
+  io::write_atomic(o.out / "fit.toml", io::read_text(fit.file));
 
   ceres::Problem problem(problem_options());
   Cost cost(fit, forward, o.jobs > 0 ? o.jobs : fit.jobs);

@@ -8,6 +8,7 @@
 #include "biomarkers/registry.h"
 #include "fit/fit.h"
 #include "fit/emulated.h"
+#include "io/text.h"
 #include "jobs/jobs.h"
 #include "jobs/launcher_input.h"
 #include "io/csv.h"
@@ -324,7 +325,7 @@ Cohort read_cohort(const toml::table& ct, const fs::path& file)
   c.at_once = int(io::integer(ct, "cohort", "patients", 0, 1, 4096, file));
   const std::string table = c.table.string();
 
-  std::istringstream in(jobs::read_text(c.table));
+  std::istringstream in(io::read_text(c.table));
   std::string line;
   std::size_t number = 0; // the file's line
   auto next = [&]

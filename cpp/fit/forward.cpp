@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/format.h"
+#include "io/text.h"
 #include "io/toml_input.h"
 
 namespace nct::fit
@@ -86,7 +87,7 @@ void Forward::run_missing(const std::vector<std::vector<std::string>>& wanted)
       const fs::path console = _runs.path(todo_names[i]) / "console.log";
       std::cerr << "fit: forward run " << todo_names[i] << " stopped without a summary; "
                 << console.string() << " ends:\n"
-                << jobs::tail(jobs::read_text(console), 4);
+                << jobs::tail(io::read_text(console), 4);
     }
 }
 
@@ -102,7 +103,7 @@ std::vector<fs::path> Forward::runs(const std::vector<std::vector<double>>& poin
     auto it = _finished.find(s);
     const bool converged
         = it != _finished.end()
-          && nlohmann::json::parse(jobs::read_text(_runs.path(it->second) / "summary.json"))
+          && nlohmann::json::parse(io::read_text(_runs.path(it->second) / "summary.json"))
                      .value("status", "")
                  == "converged";
     out.push_back(converged ? _runs.path(it->second) : fs::path());

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/format.h"
+#include "io/text.h"
 #include "jobs/jobs.h"
 #include "scene/scene.h"
 
@@ -27,7 +28,7 @@ namespace
 std::map<std::string, std::vector<double>> read_table(const fs::path& file,
                                                       const std::vector<std::string>& wanted)
 {
-  std::istringstream in(jobs::read_text(file));
+  std::istringstream in(io::read_text(file));
   std::string line;
   std::getline(in, line);
   std::vector<std::string> names;
@@ -90,7 +91,7 @@ struct Profiles
 
 Profiles read_profiles(const fs::path& file)
 {
-  std::istringstream in(jobs::read_text(file));
+  std::istringstream in(io::read_text(file));
   std::string line;
   std::getline(in, line);
   if (line != "frame,t_ms,surface,x_mm,y_mm")
@@ -167,7 +168,7 @@ void profile_values(const Observation& o, const Profiles& profiles, const std::s
 std::vector<double> model_values(const Fit& fit, const fs::path& run)
 {
   std::vector<double> out;
-  const auto summary = nlohmann::json::parse(jobs::read_text(run / "summary.json"));
+  const auto summary = nlohmann::json::parse(io::read_text(run / "summary.json"));
   std::map<std::string, std::vector<double>> frames;
   std::unique_ptr<Profiles> profiles;
   for (std::size_t k = 0; k < fit.observations.size(); ++k)

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/output.h"
+#include "io/text.h"
 
 extern char** environ;
 
@@ -197,7 +198,7 @@ check_scenes(const fs::path& program, const std::vector<SceneCase>& cases, const
     throw std::runtime_error("interrupted while checking the cases");
   // Each refused case: a line "case I:", then what nct check says of it.
   std::vector<std::pair<std::size_t, std::string>> refused;
-  std::istringstream text(read_text(log));
+  std::istringstream text(io::read_text(log));
   for (std::string line; std::getline(text, line);)
     if (line.rfind("case ", 0) == 0 && !line.empty() && line.back() == ':')
       refused.push_back({std::stoul(line.substr(5)), ""});
@@ -205,18 +206,10 @@ check_scenes(const fs::path& program, const std::vector<SceneCase>& cases, const
       refused.back().second += (refused.back().second.empty() ? "" : "\n") + line;
   if (code != 0 && refused.empty())
     throw std::runtime_error("nct check --cases failed (exit " + std::to_string(code)
-                             + "): " + tail(read_text(log), 3));
+                             + "): " + tail(io::read_text(log), 3));
   fs::remove(list);
   fs::remove(log);
   return refused;
-}
-
-std::string read_text(const fs::path& file)
-{
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 std::string progress(std::size_t done, std::size_t total, std::size_t run_now, double elapsed)

@@ -92,8 +92,6 @@ std::vector<std::pair<std::size_t, std::string>>
 check_scenes(const std::filesystem::path& program, const std::vector<SceneCase>& cases,
              const std::filesystem::path& dir);
 
-/// The whole text of a file ("" when it cannot be read).
-std::string read_text(const std::filesystem::path& file);
 
 /// The last `n` lines of a text, for messages.
 std::string tail(const std::string& text, std::size_t n);

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "io/output.h"
+#include "io/text.h"
 #include "jobs/slurm.h"
 
 namespace nct::jobs
@@ -32,7 +33,7 @@ std::vector<std::string> RunCache::names() const
 nlohmann::json RunCache::recorded(const std::string& name) const
 {
   const fs::path file = path(name) / _record;
-  return fs::exists(file) ? nlohmann::json::parse(read_text(file)) : nlohmann::json();
+  return fs::exists(file) ? nlohmann::json::parse(io::read_text(file)) : nlohmann::json();
 }
 
 bool RunCache::finished(const std::string& name) const

@@ -15,6 +15,7 @@
 
 #include "io/format.h"
 #include "io/output.h"
+#include "io/text.h"
 
 namespace nct::jobs::slurm
 {
@@ -122,7 +123,7 @@ struct Record
   explicit Record(const fs::path& folder) : file(folder / "slurm" / "submitted.json")
   {
     if (fs::exists(file))
-      tasks = nlohmann::json::parse(read_text(file)).get<std::map<std::string, std::string>>();
+      tasks = nlohmann::json::parse(io::read_text(file)).get<std::map<std::string, std::string>>();
   }
   void save() const
   {

@@ -1,5 +1,5 @@
 // Running a study (cpp/study/study.h): every case checked, then run (or
-// found finished) in its own run folder, then the report (study/report.h).
+// found finished) in its own run folder, then its tables (study/tables.h).
 #include "study/study.h"
 
 #include <algorithm>
@@ -10,16 +10,17 @@
 
 #include "io/format.h"
 #include "io/output.h"
+#include "io/text.h"
 #include "jobs/jobs.h"
 #include "jobs/launcher_input.h"
 #include "jobs/run_cache.h"
 #include "scene/scene.h"
-#include "study/report.h"
+#include "study/tables.h"
 
 namespace nct::study
 {
 using io::format;
-using jobs::read_text;
+using io::read_text;
 using jobs::tail;
 using scene::Error;
 namespace fs = std::filesystem;

@@ -7,7 +7,7 @@ import unittest
 import numpy as np
 
 from fixtures import SUMMARY, write_ablation, write_run
-from nct import clinic, cohort, readings, study, timing
+from nct import clinic, cohort_figures, readings, study, timing
 from nct.folders import Run
 from nct.tables import read_csv
 
@@ -69,9 +69,9 @@ class Reports(unittest.TestCase):
             "patient,status,c10,c10_se,c10_lo,c10_hi,truth_c10,c10_inside\n"
             "P01,converged,0.05,0.002,0.046,0.054,0.052,1\n"
             "P02,failed,,,,,0.07,\n")
-        rows, failed = cohort.fitted(folder)
+        rows, failed = cohort_figures.fitted(folder)
         self.assertEqual((len(rows), failed), (1, ["P02"]))
-        table = cohort.recovery(folder)[0]
+        table = cohort_figures.recovery(folder)[0]
         self.assertIn("| P01 | 0.052 | 0.05 | 0.002 | 0.046 - 0.054 | -3.8 % | yes |", table)
         self.assertTrue(table.endswith("c10: 1 of 1 truths inside their 95 % intervals"))
 

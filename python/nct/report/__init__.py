@@ -7,7 +7,7 @@ inline; no network) for a run, a study, a fit or a cohort.
 
 Modules: page (the page, its sections, tables and inline SVG figures),
 run, study, fit, cohort (each kind's page; the figures come from
-nct.puff, nct.study, nct.fit, nct.cohort and nct.posterior).
+nct.puff, nct.study, nct.fit, nct.cohort_figures and nct.posterior).
 """
 import pathlib
 

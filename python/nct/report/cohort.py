@@ -1,7 +1,7 @@
 """A cohort's page: the table of patients (fitted values, intervals,
 warnings), the fitted stiffness against the IOP and age, the recovery
 plot where truths exist."""
-from .. import cohort as figures
+from .. import cohort_figures as figures
 from ..folders import Cohort
 from .page import Page, links, number
 

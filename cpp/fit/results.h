@@ -1,4 +1,4 @@
-// A fit's report: a progress line and a row of iterations.csv per
+// A fit's results: a progress line and a row of iterations.csv per
 // iteration, and the answer (fit.json: the parameters with their
 // uncertainty and correlations, the observations' fit, warnings;
 // observations.csv: every measured point against the model) with its

@@ -1,5 +1,5 @@
-// A fit's report (cpp/fit/report.h).
-#include "fit/report.h"
+// A fit's results (cpp/fit/results.h).
+#include "fit/results.h"
 
 #include <cmath>
 #include <iostream>

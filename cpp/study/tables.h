@@ -1,4 +1,4 @@
-// A study's report: what each case gave (cases.csv), the analysis of its
+// A study's tables: what each case gave (cases.csv), the analysis of its
 // responses (effects.csv, anova.csv, main_effects.csv, correlation.csv; an
 // ablation's ablation.csv; analysis.json) and what the console shows of it.
 #pragma once

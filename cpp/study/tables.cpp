@@ -1,6 +1,6 @@
-// A study's report (cpp/study/report.h): the cases' table, the analysis
+// A study's tables (cpp/study/tables.h): the cases' table, the analysis
 // of their responses and its console tables.
-#include "study/report.h"
+#include "study/tables.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +11,7 @@
 
 #include "biomarkers/registry.h"
 #include "io/output.h"
+#include "io/text.h"
 #include "jobs/jobs.h"
 #include "study/analysis.h"
 
@@ -412,7 +413,7 @@ Result pending(const Study& s)
 Result read_result(const Study& s, const fs::path& dir)
 {
   Result r = pending(s);
-  auto summary = nlohmann::json::parse(jobs::read_text(dir / "summary.json"));
+  auto summary = nlohmann::json::parse(io::read_text(dir / "summary.json"));
   r.status = summary.value("status", "failed");
   r.wall_s = summary.value("wall_s", nan);
   for (std::size_t j = 0; j < s.responses.size(); ++j)
