@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "fit/fit.h"
+#include "fit/results.h"
 #include "io/format.h"
 #include "io/output.h"
 #include "io/text.h"
@@ -290,10 +291,7 @@ int run_cohort(const Fit& fit, const Options& o)
   { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   const Cohort& cohort = *fit.cohort;
   const jobs::RunCache fits(o.out / "patients", "patient.json", "fit.json");
-  if (fs::exists(o.out / "fit.toml")
-      && io::read_text(o.out / "fit.toml") != io::read_text(fit.file))
-    throw scene::Error(fit.file.string() + ": " + o.out.string() + " holds another cohort (its "
-                       "fit.toml differs); give a new --out or remove it");
+  claim_folder(fit, o.out, "cohort");
   jobs::catch_interrupts();
   // Slurm must take the options before any patient's fit starts.
   jobs::launcher_for(fit.launcher, o.launcher, o.out, fit.ranks, "fit", fit.file);

@@ -801,11 +801,7 @@ Outcome answer_at(const Fit& fit, const EmulatedLikelihood& l, const std::vector
 int run_emulated(const Fit& fit, const Options& o)
 {
   const auto start = std::chrono::steady_clock::now();
-  fs::create_directories(o.out);
-  if (fs::exists(o.out / "fit.toml")
-      && io::read_text(o.out / "fit.toml") != io::read_text(fit.file))
-    throw scene::Error(fit.file.string() + ": " + o.out.string() + " holds another fit (its "
-                       "fit.toml differs); give a new --out or remove it");
+  claim_folder(fit, o.out, "fit");
   const EmulatedLikelihood l(fit);
   std::cout << "fit " << fit.file.string()
             << (fit.patient ? " (patient " + fit.patient->id + ")" : std::string()) << ": "

@@ -85,11 +85,7 @@ int run(const Fit& fit, const Options& o)
   if (fit.emulator)
     return run_emulated(fit, o);
   const auto start = std::chrono::steady_clock::now();
-  fs::create_directories(o.out);
-  if (fs::exists(o.out / "fit.toml")
-      && io::read_text(o.out / "fit.toml") != io::read_text(fit.file))
-    throw scene::Error(fit.file.string() + ": " + o.out.string() + " holds another fit (its "
-                       "fit.toml differs); give a new --out or remove it");
+  claim_folder(fit, o.out, "fit");
   jobs::catch_interrupts();
   // Slurm must take the options before anything runs or is submitted.
   Forward forward(fit, o, jobs::launcher_for(fit.launcher, o.launcher, o.out, fit.ranks, "fit",

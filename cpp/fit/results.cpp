@@ -8,8 +8,10 @@
 
 #include "io/format.h"
 #include "io/output.h"
+#include "io/text.h"
 #include "io/toml_input.h"
 #include "jobs/jobs.h"
+#include "scene/scene.h"
 
 namespace nct::fit
 {
@@ -260,6 +262,15 @@ void report_answer(const Fit& fit, const Outcome& outcome, const fs::path& folde
   io::write_atomic(folder / "observations.csv", csv);
   io::write_atomic(folder / "fit.json", out.dump(2) + "\n");
   print_answer(out, folder);
+}
+
+void claim_folder(const Fit& fit, const std::filesystem::path& out, const char* what)
+{
+  std::filesystem::create_directories(out);
+  if (std::filesystem::exists(out / "fit.toml")
+      && io::read_text(out / "fit.toml") != io::read_text(fit.file))
+    throw scene::Error(fit.file.string() + ": " + out.string() + " holds another " + what
+                       + " (its fit.toml differs); give a new --out or remove it");
 }
 
 } // namespace nct::fit

@@ -80,4 +80,8 @@ struct Outcome
 /// on stdout.
 void report_answer(const Fit& fit, const Outcome& outcome, const std::filesystem::path& folder);
 
+/// The folder `out` made the fit's (or the cohort's, `what`): created, and
+/// refused with a scene::Error if it holds another one (its fit.toml differs).
+void claim_folder(const Fit& fit, const std::filesystem::path& out, const char* what);
+
 } // namespace nct::fit

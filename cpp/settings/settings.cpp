@@ -103,25 +103,13 @@ void check_material(const scene::Scene& scene, const std::string& part, const so
                                       "the hgo and neo_hookean laws only");
 }
 
-void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
+/// [cavity]'s humor (cavity.humor_inertia) against the rest of the scene.
+void check_humor(const scene::Scene& scene, const Settings& s, Errors& e)
 {
   const bool eye = s.mesh.eye();
   const Load load = s.puff.load;
   auto at = [&](const std::string& key, const std::string& what) { e.at(scene, key, what); };
 
-  // The biomarkers need the deepest frame and its neighbours.
-  if ((s.puff.prescribed() || load == Load::fsi) && s.puff.duration * s.puff.frame_rate < 2e3)
-    at("puff.duration", "key 'puff.duration': " + std::to_string(s.puff.duration)
-                            + " ms holds fewer than 3 frames at puff.frame_rate = "
-                            + std::to_string(s.puff.frame_rate) + "/s; needs at least "
-                            + std::to_string(2e3 / s.puff.frame_rate) + " ms");
-  if (s.solver.ldlt && s.solver.newton.jacobian == solver::Jacobian::krylov)
-    at("solver.factorisation", "key 'solver.factorisation': \"ldlt\" factorises the symmetric "
-                               "part only, but solver.jacobian = \"krylov\" needs the Jacobian "
-                               "itself: \"lu\"");
-  if (s.solid.element.mixed && s.solid.element.degree != 2)
-    at("fem.formulation", "key 'fem.formulation': \"mixed\" (P2/P0) needs fem.degree = 2, got "
-                              + std::to_string(s.solid.element.degree));
   using HumorInertia = CavitySettings::HumorInertia;
   const HumorInertia humor = s.solid.cavity.humor_inertia;
   std::string humor_name = "\"";
@@ -175,29 +163,14 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
                         "needs the cut clamped (\"clamped\"): the humor's lid across the cut is "
                         "then a wall at rest; the lid moving with the eye is the \"flow\" "
                         "model's");
-  if (s.solid.support.springs && !eye && s.mesh.boundary.fixed.empty())
-    at("support.model", "key 'support.model': \"springs\" act on boundary.fixed, which names "
-                        "no group");
-  if (eye && s.air.inlet.profile == InletSettings::Profile::table
-      && (load == Load::air || load == Load::fsi))
-    at("inlet.profile", "key 'inlet.profile': \"table\" gives a file mesh's inlet; the eye's "
-                        "nozzle takes \"uniform\" or \"parabolic\"");
-  const auto fluids = s.fluid_parts();
-  if (load == Load::air && !eye)
-    for (const auto& [part, m] : s.materials)
-      if (m.law != solid::Law::fluid)
-      {
-        at("puff.load", "key 'puff.load': \"air\" on a file mesh is its fluid alone, but '"
-                            + part + "' is a solid (material." + part
-                            + ".model); the fluid and a solid run coupled: \"fsi\"");
-        break;
-      }
-  for (const auto& [part, m] : s.materials)
-    check_material(scene, part, m, eye, e);
-  check_section(scene, s, e);
-  if (eye)
-    return;
+}
 
+/// A file mesh's groups, materials and fluid (mesh.source = "file").
+void check_file_mesh(const scene::Scene& scene, const Settings& s, Errors& e)
+{
+  const Load load = s.puff.load;
+  auto at = [&](const std::string& key, const std::string& what) { e.at(scene, key, what); };
+  const auto fluids = s.fluid_parts();
   const auto& b = s.mesh.boundary;
   if (s.mesh.file.empty())
     at("mesh.file", "key 'mesh.file': mesh.source = \"file\" needs a mesh file");
@@ -272,6 +245,49 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
     for (const auto& d : *points)
       if (flow && std::hypot(d[0], d[1], d[2]) == 0)
         at(key, std::string("key '") + key + "': a zero vector has no direction");
+}
+
+void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
+{
+  const bool eye = s.mesh.eye();
+  const Load load = s.puff.load;
+  auto at = [&](const std::string& key, const std::string& what) { e.at(scene, key, what); };
+
+  // The biomarkers need the deepest frame and its neighbours.
+  if ((s.puff.prescribed() || load == Load::fsi) && s.puff.duration * s.puff.frame_rate < 2e3)
+    at("puff.duration", "key 'puff.duration': " + std::to_string(s.puff.duration)
+                            + " ms holds fewer than 3 frames at puff.frame_rate = "
+                            + std::to_string(s.puff.frame_rate) + "/s; needs at least "
+                            + std::to_string(2e3 / s.puff.frame_rate) + " ms");
+  if (s.solver.ldlt && s.solver.newton.jacobian == solver::Jacobian::krylov)
+    at("solver.factorisation", "key 'solver.factorisation': \"ldlt\" factorises the symmetric "
+                               "part only, but solver.jacobian = \"krylov\" needs the Jacobian "
+                               "itself: \"lu\"");
+  if (s.solid.element.mixed && s.solid.element.degree != 2)
+    at("fem.formulation", "key 'fem.formulation': \"mixed\" (P2/P0) needs fem.degree = 2, got "
+                              + std::to_string(s.solid.element.degree));
+  check_humor(scene, s, e);
+  if (s.solid.support.springs && !eye && s.mesh.boundary.fixed.empty())
+    at("support.model", "key 'support.model': \"springs\" act on boundary.fixed, which names "
+                        "no group");
+  if (eye && s.air.inlet.profile == InletSettings::Profile::table
+      && (load == Load::air || load == Load::fsi))
+    at("inlet.profile", "key 'inlet.profile': \"table\" gives a file mesh's inlet; the eye's "
+                        "nozzle takes \"uniform\" or \"parabolic\"");
+  if (load == Load::air && !eye)
+    for (const auto& [part, m] : s.materials)
+      if (m.law != solid::Law::fluid)
+      {
+        at("puff.load", "key 'puff.load': \"air\" on a file mesh is its fluid alone, but '"
+                            + part + "' is a solid (material." + part
+                            + ".model); the fluid and a solid run coupled: \"fsi\"");
+        break;
+      }
+  for (const auto& [part, m] : s.materials)
+    check_material(scene, part, m, eye, e);
+  check_section(scene, s, e);
+  if (!eye)
+    check_file_mesh(scene, s, e);
 }
 
 /// The measured pulse's shape from puff.peak, rise_rate, fall_rate and
