@@ -17,20 +17,21 @@ On a section (`dimension`, section.py) every integral is weighted by r
 (axisymmetric: per radian) and the residual is the 3D one
 (navier_stokes.py).
 
-`degree`, `quadrature_degree` and `dimension` are set by the CMake wrapper.
+`degree`, `quadrature_degree` and `dimension` are its compile options (options.py).
 """
 from ufl import (Constant, Coefficient, FacetNormal, FiniteElement, Measure, MixedElement,
                  TestFunctions, TrialFunction, VectorElement, derivative, split)
 
 import navier_stokes
+from options import degree, quadrature_degree, dimension
 import section
 
 # Facet tag of the outlet (tags.py).
 from tags import OUTLET
 
-cell = section.cell(dimension)  # noqa: F821 (wrapper)
-velocity_element = VectorElement("Lagrange", cell, degree)  # noqa: F821 (wrapper)
-pressure_element = FiniteElement("Lagrange", cell, degree)  # noqa: F821
+cell = section.cell(dimension)
+velocity_element = VectorElement("Lagrange", cell, degree)
+pressure_element = FiniteElement("Lagrange", cell, degree)
 element = MixedElement([velocity_element, pressure_element])
 mesh_velocity_element = VectorElement("Lagrange", cell, 1)
 
@@ -55,14 +56,14 @@ beta = Constant(cell)       # backflow coefficient [-]
 continuity_scale = Constant(cell)  # [g/(mm^2 ms)]: continuity rows in N
 
 # Fixed quadrature: tau's square root and division make UFL's estimate explode.
-dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
-ds = Measure("ds", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
+dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})
+ds = Measure("ds", metadata={"quadrature_degree": 2 * degree})
 n = FacetNormal(cell)
-r = section.weight(cell, dimension)  # noqa: F821
+r = section.weight(cell, dimension)
 
 dudt = inv_dt * (c0 * u + c1 * u_n + c2 * u_nm1)
 R = (navier_stokes.cell_residual(u, p, v, q, dudt, w, u_n, rho, mu, inv_tau_time, cell,
-                                 continuity_scale, dimension) * r * dx  # noqa: F821
+                                 continuity_scale, dimension) * r * dx
      + navier_stokes.backflow(u, v, w, n, rho, beta) * r * ds(OUTLET))
 J = derivative(R, up, dup)
 

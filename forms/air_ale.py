@@ -43,21 +43,22 @@ times the in-plane Jacobian, the current volume element. The forces are
 the meshed part's, per radian (axisymmetric: their radial sum is zero
 over the revolution) or per unit thickness.
 
-`degree`, `quadrature_degree` and `dimension` are set by the CMake wrapper.
+`degree`, `quadrature_degree` and `dimension` are its compile options (options.py).
 """
 from ufl import (Constant, Coefficient, FacetNormal, FiniteElement, Identity, Measure,
                  MixedElement, SpatialCoordinate, TestFunctions, TrialFunction, VectorElement,
                  derivative, det, dot, split)
 
 import navier_stokes
+from options import degree, quadrature_degree, dimension
 import section
 
 # Facet tags (tags.py).
 from tags import OUTLET, INTERFACE
 
-cell = section.cell(dimension)  # noqa: F821 (wrapper)
-velocity_element = VectorElement("Lagrange", cell, degree)  # noqa: F821 (wrapper)
-pressure_element = FiniteElement("Lagrange", cell, degree)  # noqa: F821
+cell = section.cell(dimension)
+velocity_element = VectorElement("Lagrange", cell, degree)
+pressure_element = FiniteElement("Lagrange", cell, degree)
 element = MixedElement([velocity_element, pressure_element])
 mesh_element = VectorElement("Lagrange", cell, 1)
 
@@ -86,32 +87,32 @@ beta = Constant(cell)       # backflow coefficient [-]
 continuity_scale = Constant(cell)  # [g/(mm^2 ms)]: continuity rows in N
 
 # Fixed quadrature: tau's square root and division make UFL's estimate explode.
-dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
-ds = Measure("ds", metadata={"quadrature_degree": 2 * degree})  # noqa: F821
-N = section.vector(FacetNormal(cell), dimension)  # noqa: F821: reference outward normal
-X_r = section.weight(cell, dimension)  # noqa: F821: the reference radius R, else 1
+dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})
+ds = Measure("ds", metadata={"quadrature_degree": 2 * degree})
+N = section.vector(FacetNormal(cell), dimension)  # reference outward normal
+X_r = section.weight(cell, dimension)  # the reference radius R, else 1
 
-F = Identity(3) + section.gradient(d, dimension)  # noqa: F821: the mesh map's gradient
-F_n = Identity(3) + section.gradient(d_n, dimension)  # noqa: F821
+F = Identity(3) + section.gradient(d, dimension)  # the mesh map's gradient
+F_n = Identity(3) + section.gradient(d_n, dimension)
 w = inv_dt * (c0 * d + c1 * d_n + c2 * d_nm1)        # mesh velocity
 dudt = inv_dt * (c0 * u + c1 * u_n + c2 * u_nm1)     # du/dt at fixed X
 # The current radius (axisymmetric).
-r = SpatialCoordinate(cell)[0] + d[0] if dimension == "axisymmetric" else None  # noqa: F821
+r = SpatialCoordinate(cell)[0] + d[0] if dimension == "axisymmetric" else None
 
 R = (navier_stokes.cell_residual_ale(u, p, v, q, dudt, w, F, u_n, w_n, F_n, rho, mu, inv_tau_time,
-                                     cell, continuity_scale, dimension, r) * X_r * dx  # noqa: F821
+                                     cell, continuity_scale, dimension, r) * X_r * dx
      + navier_stokes.backflow(u, v, w, FacetNormal(cell), rho, beta) * X_r * ds(OUTLET))
 J = derivative(R, up, dup)
 J_mesh = derivative(R, d, dd)
 
 # The air's force on the interface [N] (meshed part), -sigma n da.
-traction = navier_stokes.wall_traction(u, p, mu, F, N, dimension)  # noqa: F821
+traction = navier_stokes.wall_traction(u, p, mu, F, N, dimension)
 force_x = -traction[0] * X_r * ds(INTERFACE)
 force_y = -traction[1] * X_r * ds(INTERFACE)
 force_z = -traction[2] * X_r * ds(INTERFACE)
 
 # The power the air's stress delivers to the solid [W = N mm/ms] (meshed part).
-traction_power = -dot(traction, section.vector(u, dimension)) * X_r * ds(INTERFACE)  # noqa: F821
+traction_power = -dot(traction, section.vector(u, dimension)) * X_r * ds(INTERFACE)
 
 # The current volume and the pressure's integral over it: a closed fluid's
 # (the humor's) mean pressure.
@@ -120,5 +121,5 @@ pressure_volume = p * det(F) * X_r * dx
 
 forms = [R, J, J_mesh, force_x, force_y, force_z, traction_power, volume, pressure_volume]
 mesh_jacobian = det(F)
-expressions = [(mesh_jacobian, [[0.25, 0.25, 0.25] if dimension == "3d"  # noqa: F821
+expressions = [(mesh_jacobian, [[0.25, 0.25, 0.25] if dimension == "3d"
                                 else [1.0 / 3.0, 1.0 / 3.0]])]

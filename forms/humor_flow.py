@@ -68,13 +68,14 @@ from ufl import (Coefficient, Constant, FacetNormal, FiniteElement, Measure,
 import cavity
 import dynamics
 import kinematics
+from options import degree, dimension
 import section
 
 # The solid's facet tags and the humor's (tags.py).
 from tags import CAVITY_1_WALL, CAVITY_2_WALL, HUMOR_LID, SUPPORT
 
-cell = section.cell(dimension)  # noqa: F821 (set by the wrapper)
-element = VectorElement("Lagrange", cell, degree)  # noqa: F821
+cell = section.cell(dimension)
+element = VectorElement("Lagrange", cell, degree)
 scalar = FiniteElement("Lagrange", cell, 1)
 
 # The solid's displacement, its history and the wall's pressure per cavity.
@@ -92,19 +93,19 @@ dt = Constant(cell)           # [ms]
 alpha_m = Constant(cell)
 beta = Constant(cell)
 
-r = section.weight(cell, dimension)  # noqa: F821
+r = section.weight(cell, dimension)
 weighted = 0 if r == 1 else 1
-gdim = 3 if dimension == "3d" else 2  # noqa: F821
+gdim = 3 if dimension == "3d" else 2
 # p or q (1) times v or a (degree) times the cofactor ((degree - 1)(gdim - 1)).
-ds = Measure("ds", metadata={"quadrature_degree": 1 + degree  # noqa: F821
-                             + (degree - 1) * (gdim - 1) + weighted})  # noqa: F821
+ds = Measure("ds", metadata={"quadrature_degree": 1 + degree
+                             + (degree - 1) * (gdim - 1) + weighted})
 
-N = section.vector(FacetNormal(cell), dimension)  # noqa: F821
-F = kinematics.deformation_gradient(u, dimension)  # noqa: F821
+N = section.vector(FacetNormal(cell), dimension)
+F = kinematics.deformation_gradient(u, dimension)
 c = (1 - alpha_m) / (beta * dt**2)
 a_mid = dynamics.level(dynamics.acceleration(u, u_old, v_old, a_old, dt, beta), a_old, alpha_m)
-a_scaled = section.vector(a_mid, dimension) / c  # noqa: F821
-v3 = section.vector(v, dimension)  # noqa: F821
+a_scaled = section.vector(a_mid, dimension) / c
+v3 = section.vector(v, dimension)
 
 # (2): the wall's load, and its blocks.
 load = (cavity.follower_pressure(p_1, F, N, v3) * r * ds(CAVITY_1_WALL)
@@ -123,12 +124,12 @@ flux_2_u = derivative(flux_2, u, du)
 cut_normal = inner(N, v3) * r * ds(SUPPORT)
 cut_area = inner(N, N) * r * ds(SUPPORT)
 cut_flux = inner(a_scaled, N) * r * ds(SUPPORT)
-cut_motion = inner(section.vector(u, dimension), N) * r * ds(SUPPORT)  # noqa: F821
+cut_motion = inner(section.vector(u, dimension), N) * r * ds(SUPPORT)
 
 # (3)'s humor term, on the humor's mesh (its current geometry).
 p = Coefficient(scalar)       # p~ in the humor [MPa]
 compliance = Constant(cell)   # 1 / (rho c) [mm^2 / MPa]
-radius = section.weight(cell, dimension)  # noqa: F821 (the current r: the mesh moves)
+radius = section.weight(cell, dimension)  # the current r: the mesh moves
 dx = Measure("dx", metadata={"quadrature_degree": 0 + weighted})
 laplace = -compliance * inner(grad(p), grad(q)) * radius * dx
 laplace_p = derivative(laplace, p, dp)

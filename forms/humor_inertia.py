@@ -60,14 +60,15 @@ from ufl import (Coefficient, Constant, FacetNormal, Measure, SpatialCoordinate,
                  TrialFunction, VectorElement, derivative, det, dot, inv)
 
 import kinematics
+from options import degree, dimension
 import section
 
 # The solid's facet tags (tags.py).
 from tags import CAVITY_1_WALL, CAVITY_2_WALL, SUPPORT
 
-cell = section.cell(dimension)  # noqa: F821 (set by the wrapper)
-gdim = 3 if dimension == "3d" else 2  # noqa: F821
-element = VectorElement("Lagrange", cell, degree)  # noqa: F821
+cell = section.cell(dimension)
+gdim = 3 if dimension == "3d" else 2
+element = VectorElement("Lagrange", cell, degree)
 v = TestFunction(element)
 du = TrialFunction(element)
 u = Coefficient(element)  # displacement [mm]
@@ -78,22 +79,22 @@ lid_2 = Constant(cell)
 g_1 = Constant(cell, shape=(gdim,))  # the weights of each cavity's moment
 g_2 = Constant(cell, shape=(gdim,))
 
-r = section.weight(cell, dimension)  # noqa: F821
+r = section.weight(cell, dimension)
 weighted = 0 if r == 1 else 1
 # (x_k - x0_k)^2 of degree 2 degree times the cofactor's (degree - 1) (gdim - 1).
-ds = Measure("ds", metadata={"quadrature_degree": 2 * degree + (degree - 1) * (gdim - 1)  # noqa: F821
+ds = Measure("ds", metadata={"quadrature_degree": 2 * degree + (degree - 1) * (gdim - 1)
                              + weighted})
 
-N = section.vector(FacetNormal(cell), dimension)  # noqa: F821
-F = kinematics.deformation_gradient(u, dimension)  # noqa: F821
-x = section.vector(SpatialCoordinate(cell) + u, dimension)  # noqa: F821
-d = x - section.vector(x0, dimension)  # noqa: F821
+N = section.vector(FacetNormal(cell), dimension)
+F = kinematics.deformation_gradient(u, dimension)
+x = section.vector(SpatialCoordinate(cell) + u, dimension)
+d = x - section.vector(x0, dimension)
 area = det(F) * inv(F).T * N  # J F^-T N
 
 
 def wall_moment(g):
     """-1/2 sum_k g_k (x_k - x0_k)^2 (J F^-T N)_k."""
-    g3 = section.vector(g, dimension)  # noqa: F821
+    g3 = section.vector(g, dimension)
     return -0.5 * sum(g3[k] * d[k] * d[k] * area[k] for k in range(3))
 
 
@@ -101,8 +102,8 @@ def lid_moment(g, lid):
     """1/2 lid (u . N)^2 sum_k g_k N_k."""
     # u as a 3-vector inline: in 3D it is u itself, and FFCx names a
     # coefficient after the last global bound to it.
-    g3 = section.vector(g, dimension)  # noqa: F821
-    return 0.5 * lid * dot(section.vector(u, dimension), N) ** 2 * dot(g3, N)  # noqa: F821
+    g3 = section.vector(g, dimension)
+    return 0.5 * lid * dot(section.vector(u, dimension), N) ** 2 * dot(g3, N)
 
 
 moment = (wall_moment(g_1) * r * ds(CAVITY_1_WALL) + wall_moment(g_2) * r * ds(CAVITY_2_WALL)

@@ -34,12 +34,13 @@ fluid-structure interactions with large displacements, J. Appl. Mech. 70
 from ufl import (Coefficient, Constant, JacobianDeterminant, Measure, TestFunction,
                  TrialFunction, VectorElement, derivative, div, grad, inner, sym)
 
+from options import dimension
 import section
 
 # Cell tag of the moving region (tags.py).
 from tags import MOVING
 
-cell = section.cell(dimension)  # noqa: F821 (set by the wrapper)
+cell = section.cell(dimension)
 element = VectorElement("Lagrange", cell, 1)
 v = TestFunction(element)
 dd = TrialFunction(element)

@@ -42,8 +42,8 @@ strain, per unit thickness). On a section, F, N, v and x are 3D
 (section.py), so the laws and loads below are the 3D ones.
 
 `degree` (1 or 2), `quadrature_degree` of the cell integrals, `variant`
-and `dimension` are set by the CMake wrapper that includes this file
-(nct_add_form). Facet integrals use 2 * degree, one more where r weighs
+and `dimension` are its compile options (options.py, set by CMake's
+nct_add_form). Facet integrals use 2 * degree, one more where r weighs
 them.
 """
 import basix
@@ -58,6 +58,7 @@ import hgo
 import kinematics
 import neo_hookean
 import saint_venant_kirchhoff
+from options import degree, quadrature_degree, variant, dimension
 import section
 import support
 import volumetric
@@ -66,15 +67,15 @@ import volumetric
 from tags import HGO, NEO_HOOKEAN, SAINT_VENANT_KIRCHHOFF, COMPRESSIBLE_NEO_HOOKEAN
 from tags import CAVITY_1_WALL, PRESS, CAVITY_2_WALL, SUPPORT
 
-cell = section.cell(dimension)  # noqa: F821 (set by the wrapper)
+cell = section.cell(dimension)
 # The azimuths the fibre energy is averaged over (axisymmetric, hgo.py).
 fibre_angles = 16
-element = VectorElement("Lagrange", cell, degree)  # noqa: F821 (set by the wrapper)
+element = VectorElement("Lagrange", cell, degree)
 cell_scalar = FiniteElement("DG", cell, 0)
 # A fibre family per cell: its 3D direction; axisymmetric, its direction
 # in (r, z, theta) at each of the fibre_angles azimuths.
 cell_vector = VectorElement("DG", cell, 0,
-                            dim=3 * fibre_angles if dimension == "axisymmetric" else 3)  # noqa: F821
+                            dim=3 * fibre_angles if dimension == "axisymmetric" else 3)
 nodal_scalar = FiniteElement("Lagrange", cell, 1)
 
 v = TestFunction(element)
@@ -102,34 +103,34 @@ lid_1 = Constant(cell)
 lid_2 = Constant(cell)
 
 # Fixed quadrature degrees: UFL's estimate explodes on exp() (docs/physics.md section 20).
-dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
+dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})
 # The volumetric energy's measure: one point (the centroid) when mixed.
-dx_volume = Measure("dx", metadata={"quadrature_degree": 1 if variant == "mixed"  # noqa: F821
-                                    else quadrature_degree})  # noqa: F821
+dx_volume = Measure("dx", metadata={"quadrature_degree": 1 if variant == "mixed"
+                                    else quadrature_degree})
 # The weight r (axisymmetric; else 1) raises a facet integrand's degree by one.
-r = section.weight(cell, dimension)  # noqa: F821
+r = section.weight(cell, dimension)
 weighted = 0 if r == 1 else 1
-ds = Measure("ds", metadata={"quadrature_degree": 2 * degree + weighted})  # noqa: F821
+ds = Measure("ds", metadata={"quadrature_degree": 2 * degree + weighted})
 
-N = section.vector(FacetNormal(cell), dimension)  # noqa: F821
-grad_v = section.gradient(v, dimension)  # noqa: F821
+N = section.vector(FacetNormal(cell), dimension)
+grad_v = section.gradient(v, dimension)
 
 
 def as_3d(w):
     """w as a 3-vector (section.py). Inline: in 3D it is w itself, and
     FFCx names a coefficient after the last global bound to it."""
-    return section.vector(w, dimension)  # noqa: F821
+    return section.vector(w, dimension)
 
 
 def deformation_gradient(w):
     """The 3x3 F of the displacement (expression) w."""
-    return kinematics.deformation_gradient(w, dimension)  # noqa: F821
+    return kinematics.deformation_gradient(w, dimension)
 
 
 def hgo_isochoric_energy(F):
     """The HGO cornea's and limbus' Psi_iso; axisymmetric, its fibre energy
     averaged over the azimuth (hgo.py)."""
-    if dimension == "axisymmetric":  # noqa: F821
+    if dimension == "axisymmetric":
         return hgo.azimuthal_isochoric_energy(F, c10, k1, k2, dispersion, fibre_1, fibre_2,
                                               fibre_angles)
     return hgo.isochoric_energy(F, c10, k1, k2, dispersion, fibre_1, fibre_2)
@@ -172,9 +173,9 @@ J = derivative(R, u, du)
 
 # Enclosed cavity volumes (the meshed part, no symmetry factor) about x0,
 # a point on the axis of a section.
-x0 = Constant(cell, shape=(3 if dimension == "3d" else 2,))  # noqa: F821
-x = section.vector(SpatialCoordinate(cell) + u, dimension)  # noqa: F821
-d_space = section.space_dimension(dimension)  # noqa: F821
+x0 = Constant(cell, shape=(3 if dimension == "3d" else 2,))
+x = section.vector(SpatialCoordinate(cell) + u, dimension)
+d_space = section.space_dimension(dimension)
 volume_1 = (cavity.volume(x, F, N, as_3d(x0), d_space) * r * ds(CAVITY_1_WALL)
             + support.lid_volume(lid_1, as_3d(u), N, d_space) * r * ds(SUPPORT))
 volume_2 = (cavity.volume(x, F, N, as_3d(x0), d_space) * r * ds(CAVITY_2_WALL)
@@ -220,7 +221,7 @@ damping = Constant(cell)     # mass-proportional [1/ms]
 support_stiffness = Constant(cell)  # k [MPa/mm]
 support_damping = Constant(cell)    # c [MPa ms/mm]
 u_support = Coefficient(element)           # u_0 [mm]
-dx_mass = Measure("dx", metadata={"quadrature_degree": 2 * degree + weighted})  # noqa: F821
+dx_mass = Measure("dx", metadata={"quadrature_degree": 2 * degree + weighted})
 
 a_new = dynamics.acceleration(u, u_old, v_old, a_old, dt, beta)
 v_new = dynamics.velocity(a_new, v_old, a_old, dt, gamma)
@@ -252,15 +253,15 @@ kinetic_energy = 0.5 * density * inner(v_old, v_old) * r * dx_mass
 # elements (det F <= 0, where ln J is undefined) and say where they are.
 # Axisymmetric, the hoop stretch is 0/0 at a vertex on the axis: there the
 # corners are taken 1 % of the way in towards the centroid.
-if dimension == "3d":  # noqa: F821
+if dimension == "3d":
     corners, reference_cell = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0],
                                [0.0, 0.0, 1.0]], basix.CellType.tetrahedron
 else:
     corners, reference_cell = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], basix.CellType.triangle
-    if dimension == "axisymmetric":  # noqa: F821
+    if dimension == "axisymmetric":
         corners = [[0.99 * a + 0.01 / 3, 0.99 * b + 0.01 / 3] for a, b in corners]
 jacobian_points = corners + basix.make_quadrature(reference_cell,
-                                                  quadrature_degree)[0].tolist()  # noqa: F821
+                                                  quadrature_degree)[0].tolist()
 det_F = det(F)
 centroid = [1.0 / (len(corners[0]) + 1)] * len(corners[0])
 

@@ -51,15 +51,16 @@ from ufl import (Coefficient, Constant, FiniteElement, Measure, TestFunction, Tr
 
 import dynamics
 import kinematics
+from options import degree, quadrature_degree, dimension
 import section
 
 HGO, NEO_HOOKEAN = 1, 2  # the law tags of forms/solid.py whose matrix relaxes
 terms = 3  # the most Prony terms a part may have
 
-cell = section.cell(dimension)  # noqa: F821 (set by the wrapper)
-element = VectorElement("Lagrange", cell, degree)  # noqa: F821
+cell = section.cell(dimension)
+element = VectorElement("Lagrange", cell, degree)
 cell_scalar = FiniteElement("DG", cell, 0)
-history = VectorElement("Quadrature", cell, quadrature_degree, dim=6,  # noqa: F821
+history = VectorElement("Quadrature", cell, quadrature_degree, dim=6,
                         quad_scheme="default")
 
 v = TestFunction(element)
@@ -80,8 +81,8 @@ relaxation_time = [relaxation_time_1, relaxation_time_2, relaxation_time_3]
 dt = Constant(cell)       # [ms]
 alpha_f = Constant(cell)
 
-dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})  # noqa: F821
-r = section.weight(cell, dimension)  # noqa: F821
+dx = Measure("dx", metadata={"quadrature_degree": quadrature_degree})
+r = section.weight(cell, dimension)
 
 
 def voigt(T):
@@ -110,9 +111,9 @@ def overstress(F, h):
     return out
 
 
-F = kinematics.deformation_gradient(u, dimension)  # noqa: F821
-F_old = kinematics.deformation_gradient(u_old, dimension)  # noqa: F821
-F_mid = kinematics.deformation_gradient(dynamics.level(u, u_old, alpha_f), dimension)  # noqa: F821
+F = kinematics.deformation_gradient(u, dimension)
+F_old = kinematics.deformation_gradient(u_old, dimension)
+F_mid = kinematics.deformation_gradient(dynamics.level(u, u_old, alpha_f), dimension)
 Q_new = overstress(F, dt)
 P_visc = F_mid * sum(overstress(F_mid, (1.0 - alpha_f) * dt))
 
@@ -122,13 +123,13 @@ def over_matrix(integrand):
     return integrand * r * dx(HGO) + integrand * r * dx(NEO_HOOKEAN)
 
 
-R = over_matrix(inner(P_visc, section.gradient(v, dimension)))  # noqa: F821
+R = over_matrix(inner(P_visc, section.gradient(v, dimension)))
 J = derivative(R, u, du)
 work = over_matrix(inner(P_visc, F - F_old))
 
 # The history's update, at the cell quadrature points (the solid's rule).
-reference_cell = basix.CellType.tetrahedron if dimension == "3d" else basix.CellType.triangle  # noqa: F821,E501
-points = basix.make_quadrature(reference_cell, quadrature_degree)[0].tolist()  # noqa: F821
+reference_cell = basix.CellType.tetrahedron if dimension == "3d" else basix.CellType.triangle  # noqa: E501
+points = basix.make_quadrature(reference_cell, quadrature_degree)[0].tolist()
 # Q_k,n+1 of every term in one expression (one per term would be
 # identical kernels, which FFCx names alike): entries 6k to 6k+5.
 stress_new = voigt(matrix_stress(F))

@@ -15,7 +15,7 @@
 
 #include "helpers.h"
 #include "jacobian_check.h"
-#include "run/air_block.h"
+#include "run/coupling_block.h"
 #include "run/model.h"
 #include "run/solid_block.h"
 

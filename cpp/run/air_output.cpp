@@ -7,6 +7,7 @@
 #include <dolfinx/mesh/utils.h>
 
 #include "io/format.h"
+#include "run/air_block.h"
 
 namespace nct
 {

@@ -21,19 +21,7 @@
 namespace nct
 {
 
-/// What the air block takes of the scene: [air] and [inlet] (with
-/// output.force_on), the puff's time course that the inlet follows and the
-/// measured pulse's shape the check built, a file mesh's inlet table, the
-/// model's dimension, whether fields are written.
-struct AirBlockSettings
-{
-  AirSettings air;
-  double peak_time, width_t;             ///< the inlet's Gaussian in time [ms]
-  std::optional<puff::PulseShape> pulse; ///< its measured pulse (inlet.history = "pulse")
-  std::vector<std::array<double, 4>> inlet_table; ///< a file mesh's: x, y, z [mm], u [m/s]
-  section::Dimension dimension;
-  bool fields; ///< output.fields
-};
+struct AirBlockSettings; // run/air_block.h
 
 /// The air's velocity and pressure fields (output.fields) every
 /// air.output_interval: on a fixed mesh as XDMF, on a moving one each

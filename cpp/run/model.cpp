@@ -6,6 +6,8 @@
 #include "air/domain.h"
 #include "eye/geometry.h"
 #include "run/air_block.h"
+#include "run/coupling_block.h"
+#include "run/mesh_motion_block.h"
 #include "run/solid_block.h"
 
 namespace nct
@@ -386,7 +388,7 @@ FluidSide file_fluid_side(const Settings& s, const Built& built, const AirMesh& 
 SolidBlockSettings solid_block_settings(const Input& in)
 {
   const Settings& s = in.settings;
-  return {s.solid,           s.materials,  s.dynamics,     s.puff.load,
+  return {s.solid,           s.materials,  s.dynamics.dt,  s.puff.load,
           in.built.puff_pressure, s.puff.frame_rate, s.output.fields};
 }
 

@@ -10,6 +10,8 @@
 #include "biomarkers/registry.h"
 #include "io/format.h"
 #include "run/air_block.h"
+#include "run/coupling_block.h"
+#include "run/mesh_motion_block.h"
 #include "run/run.h"
 #include "run/solid_block.h"
 #include "run/timeline.h"
@@ -46,7 +48,7 @@ void start_dynamics(RunState& s, SolidBlock& solid, double t)
 {
   if (!solid.dynamic())
   {
-    solid.start_dynamics();
+    solid.start_dynamics(s.settings.dynamics);
     s.solid_newton().reset();
   }
   solid.open_output(s.folder, s.summary, t);
@@ -401,7 +403,7 @@ public:
     nlohmann::json keys{{"phase", "rest"}};
     if (_columns.empty())
       keys["apex_air_pressure_mmHg"] = 0.0;
-    s.stepper.march(s.solid_newton(), "rest", -rest, rest, s.settings.dynamics.dt,
+    s.stepper.march(s.solid_newton(), "rest", -rest, rest, s.settings.dynamics,
                     _solid.dynamics(), _solid.system(), [](double) {},
                     [&](double t, double dt, const auto& report)
                     {
@@ -439,7 +441,7 @@ public:
     auto& newton = this->newton(s);
     try
     {
-      s.stepper.march(newton, march_name(), 0, s.settings.puff.duration, s.settings.dynamics.dt,
+      s.stepper.march(newton, march_name(), 0, s.settings.puff.duration, s.settings.dynamics,
                       dynamics(),
                       system(), [&](double t) { load(t); },
                       [&](double t, double dt, const solver::NewtonReport& report)

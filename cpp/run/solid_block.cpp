@@ -41,7 +41,7 @@ SolidBlock::SolidBlock(MeshSetup mesh_setup, SolidBlockSettings s, bool is_eye)
   for (const auto& groups : mesh.boundaries.cavities)
     walls.insert(walls.end(), groups.begin(), groups.end());
   humor = humor::make(problem, {mesh.mesh, walls, mesh.humor, mesh.humor_boundaries},
-                      settings.solid.cavity, settings.time_step.dt);
+                      settings.solid.cavity, settings.humor_stabilisation_time);
   _press_profile = [](const auto&) { return 1.0; };
   if (settings.solid.press.gaussian)
   {
@@ -145,12 +145,12 @@ double SolidBlock::apex_load(double t) const
 
 // Dynamics.
 
-void SolidBlock::start_dynamics()
+void SolidBlock::start_dynamics(const dynamics::TimeStep& step)
 {
   if (_dynamic)
     return;
   _dynamic = true;
-  problem.start_dynamics(settings.time_step);
+  problem.start_dynamics(step);
   humor->start();
   open_frames();
 }
@@ -158,7 +158,7 @@ void SolidBlock::start_dynamics()
 Stepper::Dynamics SolidBlock::dynamics()
 {
   // x holds the solid's u and the humor's unknowns, if any.
-  Stepper::Dynamics d{[this](double dt) { humor->set_time_step(settings.time_step.with_dt(dt)); },
+  Stepper::Dynamics d{[this](const dynamics::TimeStep& step) { humor->set_time_step(step); },
                       [this] { return problem.load_level(); }, [this] { humor->advance(); }};
   if (humor->predicts())
     d.predict = [this] { humor->predict(); };
@@ -360,10 +360,7 @@ void SolidBlock::restore(const io::CheckpointReader& checkpoint, const nlohmann:
   _dynamic = state.at("dynamic");
   x_imaged.clear();
   inflated.clear();
-  std::optional<dynamics::TimeStep> step;
-  if (_dynamic)
-    step = settings.time_step;
-  problem.restore(checkpoint, step);
+  problem.restore(checkpoint, _dynamic);
   if (state.contains("closed"))
     _closed.emplace(problem, state["closed"].at("pressures").get<std::vector<double>>(),
                     state["closed"].at("targets").get<std::vector<double>>(),

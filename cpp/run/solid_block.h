@@ -31,7 +31,9 @@ struct SolidBlockSettings
 {
   SolidSettings solid;
   std::map<std::string, solid::Material> materials; ///< by part
-  dynamics::TimeStep time_step;
+  /// The meshed Navier-Stokes humor's stabilisation time: the nominal
+  /// time step [dynamics] dt [ms].
+  double humor_stabilisation_time;
   PuffSettings::Load puff;                           ///< none: no frames
   std::shared_ptr<const puff::Load> prescribed;      ///< the prescribed p(r, t) [mmHg], or null
   double frame_rate;                                 ///< the frames' [1/s]
@@ -105,9 +107,10 @@ public:
   std::vector<std::array<double, 3>> probes;
 
   // Dynamics.
-  /// Switch to dynamics at the current state (once); with a puff on the
-  /// eye, open the frames.
-  void start_dynamics();
+  /// Switch to dynamics at the current state (once), integrating over
+  /// `step` until the stepper sets another; with a puff on the eye, open
+  /// the frames.
+  void start_dynamics(const dynamics::TimeStep& step);
   bool dynamic() const { return _dynamic; }
   /// The time integration, for the Stepper.
   Stepper::Dynamics dynamics();

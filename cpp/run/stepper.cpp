@@ -109,13 +109,14 @@ void Stepper::ramp(solver::Newton& newton, const std::string& phase, int steps,
 }
 
 void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
-                    double duration, double nominal,
+                    double duration, const dynamics::TimeStep& nominal_step,
                     const Dynamics& problem, const solver::System& system,
                     const std::function<void(double)>& load,
                     const std::function<void(double, double, const solver::NewtonReport&)>& done)
 {
   // The last two converged states: `saved` at t, `before` at t_before.
   Saved saved(system), before(system);
+  const double nominal = nominal_step.dt;
   const double floor = std::ldexp(nominal, -_max_cuts), end = t0 + duration;
   double t = t0, dt = nominal, last_dt = -1, t_before = 0;
   bool two = false; // are there two states to extrapolate from?
@@ -139,7 +140,7 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
   {
     const double step = std::min(dt, end - t);
     // Every step: multistep coefficients depend on the steps before.
-    problem.set_time_step(step);
+    problem.set_time_step(nominal_step.with_dt(step));
     // The Jacobian depends on dt: a kept factorisation is stale, unless
     // it only preconditions the exact Jacobian (krylov).
     if (step != last_dt && settings.jacobian != solver::Jacobian::krylov)

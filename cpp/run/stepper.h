@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "dynamics/time_step.h"
 #include "io/output.h"
 #include "solid/problem.h"
 #include "solver/newton.h"
@@ -45,7 +46,8 @@ public:
   /// What marching needs of a time-dependent problem.
   struct Dynamics
   {
-    std::function<void(double dt)> set_time_step; ///< before every step: its length [ms]
+    /// Before every step: the step (the nominal one, or a cut of it).
+    std::function<void(const dynamics::TimeStep& step)> set_time_step;
     std::function<double()> load_level; ///< where in the step the loads act, in [0, 1]
     std::function<void()> advance;      ///< the converged step becomes the old state
     /// The step's first iterate from the old state (e.g. its velocity and
@@ -54,11 +56,11 @@ public:
   };
 
   /// March a problem from time t0 for `duration` [ms] with the nominal
-  /// step dt: `load(t)` sets the loads at the problem's load level within
+  /// step (cut steps keep its integrator): `load(t)` sets the loads at the problem's load level within
   /// each step, `done(t, dt, report)` sees every converged step after the
   /// problem advanced.
   void march(solver::Newton& newton, const std::string& phase, double t0, double duration,
-             double dt,
+             const dynamics::TimeStep& nominal,
              const Dynamics& problem, const solver::System& system,
              const std::function<void(double)>& load,
              const std::function<void(double, double, const solver::NewtonReport&)>& done);

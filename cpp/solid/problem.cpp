@@ -588,13 +588,13 @@ void Problem::save(io::CheckpointWriter& checkpoint) const
   }
 }
 
-void Problem::restore(const io::CheckpointReader& checkpoint, const std::optional<dynamics::TimeStep>& step)
+void Problem::restore(const io::CheckpointReader& checkpoint, bool dynamic)
 {
   auto mesh = std::const_pointer_cast<mesh::Mesh>(u->function_space()->mesh());
   checkpoint.read_geometry("solid/geometry", *mesh);
   update_reference();
   checkpoint.read("solid/u", *u);
-  if (!step)
+  if (!dynamic)
     return;
   checkpoint.read("solid/u_old", *u_old);
   checkpoint.read("solid/v_old", *v_old);
@@ -614,7 +614,6 @@ void Problem::restore(const io::CheckpointReader& checkpoint, const std::optiona
     std::fill(preload.begin() + owned, preload.end(), 0.0); // owned entries only
     release_support();
   }
-  set_time_step(*step);
   _dynamic = true;
 }
 

@@ -118,9 +118,10 @@ public:
   /// (zero pressure moves it), u, and in dynamics the last step's u, v, a
   /// and the support's state. Collective.
   void save(io::CheckpointWriter& checkpoint) const;
-  /// Read that state back; in dynamics (`step` given) switch to them as
-  /// start_dynamics() does, but with the checkpoint's motion.
-  void restore(const io::CheckpointReader& checkpoint, const std::optional<dynamics::TimeStep>& step);
+  /// Read that state back; in dynamics (`dynamic`) switch to them as
+  /// start_dynamics() does, but with the checkpoint's motion (the time
+  /// step is set before the next step, set_time_step).
+  void restore(const io::CheckpointReader& checkpoint, bool dynamic);
   /// Change the time step (dynamics only).
   void set_time_step(const dynamics::TimeStep& step);
   /// After a converged step: a and v from the Newmark updates, then the
