@@ -103,9 +103,4 @@ private:
   std::size_t _priors = 0;
 };
 
-/// Fit on the emulator (fit.emulator): Levenberg-Marquardt, the posterior
-/// by MCMC where the parameters correlate (fit.posterior), then the
-/// confirming forward run at the answer. Returns as fit::run.
-int run_emulated(const Fit& fit, const Options& options);
-
 } // namespace nct::fit

@@ -1,4 +1,6 @@
-// Reading and validating a fit file (cpp/fit/fit.h).
+// Reading and validating a fit file (fit/fit_file.h).
+#include "fit/fit_file.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -6,7 +8,6 @@
 #include <sstream>
 
 #include "biomarkers/registry.h"
-#include "fit/fit.h"
 #include "fit/emulated.h"
 #include "io/text.h"
 #include "jobs/jobs.h"

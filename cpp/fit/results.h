@@ -60,6 +60,7 @@ struct Outcome
   std::vector<double> model;      ///< the model's values at the observation points
   std::vector<double> covariance; ///< theta's, row by row; NaN where not identifiable
   bool identifiable = true;       ///< the covariance could be computed
+  std::vector<int> held;          ///< the variables the active set held at a bound
   std::filesystem::path best_run; ///< the forward run at theta
   std::vector<std::string> sets;  ///< its overrides
   int forward_runs = 0;           ///< forward runs finished, reused or not

@@ -12,6 +12,7 @@
 #include <dolfinx/fem/assembler.h>
 
 #include "io/format.h"
+#include "io/laps.h"
 #include "solver/bordered.h"
 
 namespace nct::fsi
@@ -297,13 +298,7 @@ void Coupled::solid_state(std::vector<double>& u, std::vector<double>& v) const
 
 void Coupled::residual(la::Vector<double>& b)
 {
-  double t = MPI_Wtime();
-  auto lap = [&](const char* part)
-  {
-    const double now = MPI_Wtime();
-    _timings[part] += now - t;
-    t = now;
-  };
+  io::Laps lap(_timings);
   _solid.residual(*_b_solid);
   lap("solid");
   std::vector<double> bh(_joined ? _unknowns->owned(3) : 0);
@@ -356,13 +351,7 @@ void Coupled::residual(la::Vector<double>& b)
 void Coupled::add_jacobian(Mat A)
 {
   const auto& U = *_unknowns;
-  double t = MPI_Wtime();
-  auto lap = [&](const char* part)
-  {
-    const double now = MPI_Wtime();
-    _timings[part] += now - t;
-    t = now;
-  };
+  io::Laps lap(_timings);
   for (const auto* J : _solid.jacobian_forms())
     fem::assemble_matrix(solver::add_block(A, _solid_block), *J, {});
   lap("solid");

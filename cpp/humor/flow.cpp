@@ -18,6 +18,7 @@
 #include "biomarkers/registry.h"
 #include "form_tags.h"
 #include "io/format.h"
+#include "io/laps.h"
 
 namespace nct::humor
 {
@@ -518,15 +519,8 @@ Flow::Placement Flow::place(const solver::Monolithic& U, std::size_t solid, std:
 
 void Flow::add_residual(std::span<double> bs, std::span<double> bh)
 {
-  double t = MPI_Wtime();
-  auto lap = [&](const char* part)
-  {
-    const double now = MPI_Wtime();
-    _timings[part] += now - t;
-    t = now;
-  };
-  set_compliance();
-  set_wall_pressures();
+  io::Laps lap(_timings);
+  set_loads();
   // The wall's load, on the solid's free rows.
   auto& load = *_b_scalar; // reused below for the flux
   auto& wall = *_b_wall;
@@ -577,15 +571,8 @@ void Flow::add_residual(std::span<double> bs, std::span<double> bh)
 
 void Flow::add_jacobian(const Placement& at, Mat A)
 {
-  double t = MPI_Wtime();
-  auto lap = [&](const char* part)
-  {
-    const double now = MPI_Wtime();
-    _timings[part] += now - t;
-    t = now;
-  };
-  set_compliance();
-  set_wall_pressures();
+  io::Laps lap(_timings);
+  set_loads();
   fem::assemble_matrix(solver::add_block(A, at.humor_block), *_laplace_p, {});
   lap("humor");
   fem::assemble_matrix(solver::add_block(A, at.solid_block), *_load_u, {});

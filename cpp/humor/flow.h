@@ -175,6 +175,12 @@ private:
   void move_humor_mesh();
   /// 1 / (rho c) of the solid's time step [mm^2/MPa].
   void set_compliance();
+  /// What the forms read of the state: the compliance and p~ on the wall.
+  void set_loads()
+  {
+    set_compliance();
+    set_wall_pressures();
+  }
   /// The lid's constants on the solid's reference geometry: the cut's
   /// area, mean normal and n(v) = integral_cut N . v dA.
   void measure_cut();
