@@ -19,7 +19,6 @@
 
 namespace nct::fit
 {
-namespace fs = std::filesystem;
 
 namespace
 {

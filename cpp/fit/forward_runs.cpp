@@ -1,8 +1,6 @@
 // The fit's forward model of forward runs (fit/model.h): the start's scene
 // checked by nct check, the residuals and their finite differences by
 // runs (fit/cost.h), the answer at the last run.
-#include <iostream>
-
 #include "fit/cost.h"
 #include "fit/forward.h"
 #include "fit/model.h"
