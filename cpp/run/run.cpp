@@ -81,10 +81,26 @@ void finish(RunState& s, const std::string& status)
   s.folder.write_text("summary.json", s.summary.dump(2) + "\n");
 }
 
+/// Open MPI started without a launcher (a singleton, the usual `nct`):
+/// no helper daemon (ess_singleton_isolated) and the shared-memory
+/// transport rather than probing the network's (pml ob1). Together they
+/// take MPI's start from 0.44 s to 0.08 s here; one rank sends nothing.
+/// A launcher's ranks (mpirun, srun) and a user's own settings are left
+/// alone.
+void quiet_singleton()
+{
+  for (const char* launched : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"})
+    if (std::getenv(launched))
+      return;
+  setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
+  setenv("OMPI_MCA_pml", "ob1", 0);
+}
+
 } // namespace
 
 Runtime::Runtime(const char* program)
 {
+  quiet_singleton();
   int argc = 1;
   char* argv[] = {const_cast<char*>(program), nullptr};
   char** pargv = argv;
