@@ -7,8 +7,8 @@ set -eu
 cd "$(dirname "$0")/.."
 scripts/build.sh
 . scripts/env.sh
-# One machine: Open MPI's shared-memory transport, not the network probe
-# (UCX's costs 0.2 s a launch, and the suite launches a thousand).
+# One machine: Open MPI's shared-memory transport without probing UCX
+# first (which Debian's Open MPI cannot select here: 0.2 s an mpirun).
 export OMPI_MCA_pml="${OMPI_MCA_pml:-ob1}"
 cd build
 [ $# -gt 0 ] || set -- -LE slow

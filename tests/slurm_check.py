@@ -241,13 +241,13 @@ elif mode == "run":
     scene = os.path.join(root, "tests", "scenes", "sphere_inflation.toml")
     local = os.path.join(out, "mpirun")
     # Linear elements: the launcher's property, in a second (P2: 20 s).
-    linear = "--set fem.degree=1"
+    linear = ["--set", "fem.degree=1"]
     run(["mpirun", "-n", "2", "--oversubscribe", "--allow-run-as-root", nct, "run", scene,
-         *linear.split(), "--out", local], check=0)
+         *linear, "--out", local], check=0)
     slurm = os.path.join(out, "srun")
     script = os.path.join(out, "run.sh")
     open(script, "w").write("#!/bin/sh\n#SBATCH --ntasks=2\n#SBATCH --cpus-per-task=1\n"
-                            "srun --mpi=pmix -n 2 %s run %s %s --out %s\n" % (nct, scene, linear, slurm))
+                            "srun --mpi=pmix -n 2 %s run %s %s --out %s\n" % (nct, scene, " ".join(linear), slurm))
     job = run(["sbatch", "--parsable", "--wait", "-o", os.path.join(out, "slurm-%j.out"),
                script], check=0).stdout.strip()
     x = read_json(os.path.join(local, "summary.json"))
