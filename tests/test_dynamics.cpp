@@ -16,6 +16,7 @@
 #include "run/air_block.h"
 #include "run/model.h"
 #include "run/solid_block.h"
+#include "run/stepper.h"
 
 namespace
 {
@@ -27,41 +28,60 @@ struct Sample
   double t, u, energy; // time [ms], probe x-displacement [mm], total energy [mJ]
 };
 
-/// The square stretched by a 150 mmHg pull on x = 1, then released over
-/// `release` ms by a twice continuously differentiable ramp
-/// p = p0 (1 - 10 s^3 + 15 s^4 - 6 s^5), s = t / release, and followed to
-/// `end` ms with time step dt.
-std::vector<Sample> vibrate(double dt, double end, double rho_inf, double damping,
-                            double release)
+/// The square stretched by a 150 mmHg pull on x = 1, in equilibrium,
+/// to be released over `release` ms by a twice continuously
+/// differentiable ramp p = p0 (1 - 10 s^3 + 15 s^4 - 6 s^5), s = t / release.
+struct StretchedSquare
 {
-  auto s = nct::read(MPI_COMM_WORLD, std::filesystem::path(NCT_SOURCE_DIR)
-                                       / "tests/scenes/square_plane.toml");
-  nct::Model model = nct::make_model(MPI_COMM_WORLD, s);
-  auto& problem = model.solid->problem;
-  dolfinx::la::petsc::Matrix A(problem.create_matrix(), false);
-  nct::solver::set_petsc_options({}); // the defaults: MUMPS LU
-  nct::solver::Newton newton(MPI_COMM_WORLD, A.mat());
-  nct::cavity::Open open(problem);
-  const nct::solver::NewtonSettings settings{25, 1e-10, 1e-10, 0, false};
-  const double p0 = -150 * mmHg;
-  for (double f : {0.5, 1.0})
+  /// The communicator, the PETSc options set to the defaults (MUMPS LU) first.
+  static MPI_Comm default_solver()
   {
-    problem.set_press(f * p0);
-    EXPECT_TRUE(newton.solve(open.system(), settings).converged);
+    nct::solver::set_petsc_options({});
+    return MPI_COMM_WORLD;
   }
-  problem.start_dynamics({dt, rho_inf, damping});
-  auto pressure = [&](double t)
+  static constexpr double p0 = -150 * mmHg;
+  explicit StretchedSquare(double release)
+      : settings(nct::read(MPI_COMM_WORLD, std::filesystem::path(NCT_SOURCE_DIR)
+                                               / "tests/scenes/square_plane.toml")),
+        model(nct::make_model(MPI_COMM_WORLD, settings)), problem(model.solid->problem),
+        A(problem.create_matrix(), false), newton(default_solver(), A.mat()),
+        open(problem), probe(problem, {{1.0, 1.0, 0.0}}), release(release)
+  {
+    for (double f : {0.5, 1.0})
+    {
+      problem.set_press(f * p0);
+      EXPECT_TRUE(newton.solve(open.system(), newton_settings).converged);
+    }
+  }
+  double pressure(double t) const
   {
     const double x = std::min(t / release, 1.0);
     return p0 * (1 - x * x * x * (10 - 15 * x + 6 * x * x));
-  };
-  const nct::solid::Probes probe(problem, {{1.0, 1.0, 0.0}});
+  }
+  const nct::solver::NewtonSettings newton_settings{25, 1e-10, 1e-10, 0, false};
+  nct::Input settings;
+  nct::Model model;
+  nct::solid::Problem& problem;
+  dolfinx::la::petsc::Matrix A;
+  nct::solver::Newton newton;
+  nct::cavity::Open open;
+  nct::solid::Probes probe;
+  double release;
+};
+
+/// The stretched square released and followed to `end` ms with time step dt.
+std::vector<Sample> vibrate(double dt, double end, double rho_inf, double damping,
+                            double release)
+{
+  StretchedSquare square(release);
+  auto& problem = square.problem;
+  problem.start_dynamics({dt, rho_inf, damping});
   std::vector<Sample> samples;
   const int steps = static_cast<int>(std::lround(end / dt));
   for (int n = 0; n < steps; ++n)
   {
-    problem.set_press(pressure((n + problem.load_level()) * dt));
-    auto report = newton.solve(open.system(), settings);
+    problem.set_press(square.pressure((n + problem.load_level()) * dt));
+    auto report = square.newton.solve(square.open.system(), square.newton_settings);
     if (!report.converged)
     {
       ADD_FAILURE() << "step " << n << ": " << report.reason << ", last residual "
@@ -69,10 +89,43 @@ std::vector<Sample> vibrate(double dt, double end, double rho_inf, double dampin
       break;
     }
     problem.advance();
-    const double u = probe.displacement()[0][0];
+    const double u = square.probe.displacement()[0][0];
     samples.push_back({(n + 1) * dt, u, problem.strain_energy() + problem.kinetic_energy()});
   }
   return samples;
+}
+
+/// The same release marched by nct's Stepper from the first step dt, its
+/// steps adapted to `tolerance` [mm] (0: fixed): the probe after each step.
+struct March
+{
+  std::vector<double> t, u, dt;
+  int rejections = 0;
+};
+March march(double dt, double end, double tolerance, double release)
+{
+  StretchedSquare square(release);
+  auto& problem = square.problem;
+  const nct::dynamics::TimeStep step{dt, 0.5, 0.1};
+  problem.start_dynamics(step);
+  nct::io::RunFolder folder(MPI_COMM_WORLD, out_dir("adaptive_square"));
+  nct::Stepper stepper(square.newton_settings, 12, nct::Stepper::Predictor::extrapolate, folder);
+  stepper.control = {tolerance, 0.05};
+  const nct::Stepper::Dynamics dynamics{
+      [&](const nct::dynamics::TimeStep& s) { problem.set_time_step(s); },
+      [&] { return problem.load_level(); }, [&] { problem.advance(); },
+      [&] { problem.predict(); }, [&] { return problem.local_error(); }};
+  March m{{0}, {square.probe.displacement()[0][0]}, {0}};
+  stepper.march(square.newton, "release", 0, end, step, dynamics, square.open.system(),
+                [&](double t) { problem.set_press(square.pressure(t)); },
+                [&](double t, double h, const nct::solver::NewtonReport&)
+                {
+                  m.t.push_back(t);
+                  m.dt.push_back(h);
+                  m.u.push_back(square.probe.displacement()[0][0]);
+                });
+  m.rejections = stepper.rejections;
+  return m;
 }
 
 } // namespace
@@ -103,6 +156,65 @@ TEST(Dynamics, SecondOrderInTime)
               std::log(errors[0] / errors[1]) / std::log(2.0), order);
   EXPECT_GT(order, 1.8);
   EXPECT_LT(order, 2.5);
+}
+
+// Adaptive steps (dynamics.tolerance): Stepper::march keeps the local
+// error estimate (beta - 1/6) dt^2 max|a_n+1 - a_n| below the tolerance,
+// halving and doubling the step. For a second-order integrator the
+// steps then grow as tol^(1/3) and the global error falls as tol^(2/3):
+// a tolerance 8 times smaller takes about twice the steps and has about a
+// quarter of the error, here against a 32 times finer fixed march. The
+// steps follow the motion: short while the release drives it, longer in
+// the free vibration after.
+TEST(Dynamics, AdaptiveStepsFollowTheirTolerance)
+{
+  const double end = 0.32, release = 0.2, fine = 0.02 / 32;
+  const March reference = march(fine, end, 0, release);
+  ASSERT_EQ(reference.t.size(), 513u);
+  // The reference between its steps: the parabola through three.
+  auto at = [&](double t)
+  {
+    const std::size_t i = std::clamp<long>(std::lround(t / fine), 1, 511);
+    const double x = t / fine - static_cast<double>(i);
+    const auto& u = reference.u;
+    return u[i] + 0.5 * x * (u[i + 1] - u[i - 1]) + 0.5 * x * x * (u[i + 1] - 2 * u[i] + u[i - 1]);
+  };
+  struct Result
+  {
+    double error;
+    std::size_t steps;
+    int rejections;
+    double shortest, longest, driven, free;
+  };
+  auto adaptive = [&](double tolerance)
+  {
+    const March m = march(0.02, end, tolerance, release);
+    Result r{0, m.t.size() - 1, m.rejections, 1e300, 0, 0, 0};
+    int n_driven = 0, n_free = 0;
+    for (std::size_t i = 1; i < m.t.size(); ++i)
+    {
+      r.error = std::max(r.error, std::abs(m.u[i] - at(m.t[i])));
+      r.shortest = std::min(r.shortest, m.dt[i]), r.longest = std::max(r.longest, m.dt[i]);
+      (m.t[i] <= release ? r.driven : r.free) += m.dt[i];
+      ++(m.t[i] <= release ? n_driven : n_free);
+    }
+    r.driven /= n_driven, r.free /= n_free;
+    std::printf("tolerance %.1e mm: %zu steps (%d taken again), dt %.5f to %.5f ms (mean %.5f "
+                "while driven, %.5f free); largest error %.3e mm\n",
+                tolerance, r.steps, m.rejections, r.shortest, r.longest, r.driven, r.free,
+                r.error);
+    return r;
+  };
+  const Result coarse = adaptive(1e-5), tight = adaptive(1e-5 / 8);
+  const double steps = static_cast<double>(tight.steps) / coarse.steps,
+               error = coarse.error / tight.error;
+  std::printf("tolerance / 8: %.2f times the steps (tol^-1/3: 2), the error / %.2f (tol^2/3: 4)\n",
+              steps, error);
+  EXPECT_GT(steps, 1.6);
+  EXPECT_LT(steps, 2.5);
+  EXPECT_GT(error, 2.5);
+  EXPECT_LT(error, 6.5);
+  EXPECT_LT(tight.rejections, 0.1 * tight.steps);
 }
 
 // Without damping and numerical dissipation (rho_inf = 1) the free

@@ -70,6 +70,8 @@ const std::vector<Entry>& registry()
        false},
       {"newton_iterations", "", "Newton iterations, all phases", false},
       {"step_cuts", "", "increments halved after a failed step", false},
+      {"step_rejections", "", "adaptive time steps (dynamics.tolerance) taken again shorter "
+                              "for their local error", false},
       {"wall_s", "s", "wall time of the whole run", false}};
   return entries;
 }

@@ -1,7 +1,7 @@
 // [dynamics]: the time step of every dynamic phase (the rest and the puff,
-// whichever blocks move) and the generalised-alpha parameters of the
-// solid's integrator (forms/dynamics.py); the air steps by the same dt
-// with its own BDF order (air.bdf_order).
+// whichever blocks move), how a march chooses it, and the generalised-alpha
+// parameters of the solid's integrator (forms/dynamics.py); the air steps by
+// the same dt with its own BDF order (air.bdf_order).
 #pragma once
 
 namespace nct::dynamics
@@ -21,6 +21,14 @@ struct TimeStep
     s.dt = length;
     return s;
   }
+};
+
+/// How a march chooses its steps: the nominal step, halved where Newton
+/// fails (tolerance 0), or adapted to the solid's local error estimate.
+struct StepControl
+{
+  double tolerance = 0; ///< [mm] the largest local error of a step; 0: fixed steps
+  double dt_max = 1;    ///< [ms] the longest adapted step
 };
 
 } // namespace nct::dynamics

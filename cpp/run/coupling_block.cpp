@@ -109,7 +109,9 @@ Stepper::Dynamics CouplingBlock::dynamics()
             const double dt = _step.dt;
             coupled.advance();
             account(dt, power);
-          }};
+          },
+          nullptr,
+          [this] { return _solid.problem.local_error(); }};
 }
 
 biomarkers::Columns CouplingBlock::sample(double t, std::string& text)

@@ -162,6 +162,7 @@ Stepper::Dynamics SolidBlock::dynamics()
                       [this] { return problem.load_level(); }, [this] { humor->advance(); }};
   if (humor->predicts())
     d.predict = [this] { humor->predict(); };
+  d.error = [this] { return problem.local_error(); };
   return d;
 }
 

@@ -124,6 +124,7 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
   // through the last two states (which only it needs to keep).
   const bool extrapolate = _predictor == Predictor::extrapolate;
   const bool secant = extrapolate && !problem.predict;
+  const bool adaptive = control.tolerance > 0 && problem.error;
   int successes = 0, steps = 0, rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   if (resume)
@@ -167,6 +168,25 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
       successes = 0;
       continue;
     }
+    if (adaptive)
+    {
+      // Lengths of dynamics.dt 2^k: a kept factorisation lasts until the
+      // estimate leaves [tol / 16, 0.8 tol] (twice the step, 8 times the error).
+      const double error = problem.error(), tol = control.tolerance;
+      if (error > tol && step > floor * (1 + 1e-12))
+      {
+        saved.restore(system);
+        ++rejections;
+        dt = std::max(floor, step / (error > 8 * tol ? 4 : 2));
+        _folder.log(format("  %s t = %.4f ms: local error %.3e mm > dynamics.tolerance %.3e mm, "
+                           "dt %.4g -> %.4g ms", phase.c_str(), t + step, error, tol, step, dt));
+        continue;
+      }
+      if (error > 0.8 * tol)
+        dt = std::max(floor, step / 2);
+      else if (error < tol / 16 && 2 * step <= control.dt_max * (1 + 1e-12))
+        dt = 2 * step;
+    }
     problem.advance();
     if (secant)
     {
@@ -176,7 +196,7 @@ void Stepper::march(solver::Newton& newton, const std::string& phase, double t0,
     }
     t += step;
     saved.keep(system);
-    if (++successes >= 2 && dt < nominal)
+    if (!adaptive && ++successes >= 2 && dt < nominal)
       dt = std::min(2 * dt, nominal), successes = 0;
     done(t, step, report);
     ++steps;

@@ -53,12 +53,21 @@ public:
     /// The step's first iterate from the old state (e.g. its velocity and
     /// acceleration), for Predictor::extrapolate; null: the secant.
     std::function<void()> predict = nullptr;
+    /// After a converged step, before advance: its local error estimate
+    /// [mm], for adaptive steps; null: none (the steps stay fixed).
+    std::function<double()> error = nullptr;
   };
 
   /// March a problem from time t0 for `duration` [ms] with the nominal
-  /// step (cut steps keep its integrator): `load(t)` sets the loads at the problem's load level within
-  /// each step, `done(t, dt, report)` sees every converged step after the
-  /// problem advanced.
+  /// step (cut steps keep its integrator): `load(t)` sets the loads at the
+  /// problem's load level within each step, `done(t, dt, report)` sees every
+  /// converged step after the problem advanced. With `control.tolerance`
+  /// and the problem's error estimate e the steps adapt, their lengths the
+  /// nominal one times 2^k (a new length costs the kept factorisation): a
+  /// step with e above the tolerance is taken again at half the length (a
+  /// quarter above 8 times it); the next step is half as long after e above
+  /// 0.8 of it, twice as long (up to control.dt_max) after e below 1/16 of
+  /// it (a second-order integrator's local error grows as h^3).
   void march(solver::Newton& newton, const std::string& phase, double t0, double duration,
              const dynamics::TimeStep& nominal,
              const Dynamics& problem, const solver::System& system,
@@ -88,8 +97,12 @@ public:
   /// state (its t0 and first step ignored) and clears it.
   std::optional<MarchState> resume;
 
+  /// How the march chooses its steps ([dynamics]).
+  dynamics::StepControl control;
+
   int newton_iterations = 0;
   int cuts = 0;
+  int rejections = 0; ///< adaptive steps taken again for their error
   /// Each Newton solve's stopping and globalisation.
   solver::NewtonSettings settings;
 

@@ -35,6 +35,7 @@ RunState::RunState(MPI_Comm comm, const Input& in, io::RunFolder& folder, Model&
   MPI_Comm_size(comm, &ranks);
   summary["ranks"] = ranks;
   summary["steps"] = nlohmann::json::array();
+  stepper.control = settings.step_control;
   if (const int every = settings.checkpoint.steps; every > 0)
   {
     for (const Block* b : model.blocks())
@@ -197,6 +198,7 @@ void RunState::checkpoint(const Stepper::MarchState& march)
               {"summary", summary},
               {"newton_iterations", stepper.newton_iterations},
               {"cuts", stepper.cuts},
+              {"rejections", stepper.rejections},
               {"solvers", solvers},
               {"wall_s", MPI_Wtime() - wall_start}});
   io::CheckpointWriter writer(comm);
@@ -250,6 +252,7 @@ std::size_t RunState::resume(const io::CheckpointReader& checkpoint)
   wall_start = MPI_Wtime() - doc.at("wall_s").get<double>();
   stepper.newton_iterations = doc.at("newton_iterations");
   stepper.cuts = doc.at("cuts");
+  stepper.rejections = doc.value("rejections", 0);
   for (const auto& [name, t] : doc.at("solvers").items())
     _resumed_timings[name] = t.get<solver::Timings>();
   for (Block* b : model.blocks())

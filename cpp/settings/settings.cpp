@@ -11,6 +11,7 @@
 #include <dolfinx/common/MPI.h>
 
 #include "air/inlet.h"
+#include "io/format.h"
 
 namespace nct
 {
@@ -267,6 +268,17 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
     at("fem.formulation", "key 'fem.formulation': \"mixed\" (P2/P0) needs fem.degree = 2, got "
                               + std::to_string(s.solid.element.degree));
   check_humor(scene, s, e);
+  if (const auto& c = s.step_control; c.tolerance > 0)
+  {
+    if (load == Load::air)
+      at("dynamics.tolerance", "key 'dynamics.tolerance': adaptive steps follow the solid's "
+                               "error estimate, and puff.load = \"air\" moves no solid; 0 "
+                               "(fixed steps)");
+    if (c.dt_max < s.dynamics.dt)
+      at("dynamics.dt_max", io::format("key 'dynamics.dt_max': %g ms is shorter than the first "
+                                       "step, dynamics.dt = %g ms; needs >= dynamics.dt",
+                                       c.dt_max, s.dynamics.dt));
+  }
   if (s.solid.support.springs && !eye && s.mesh.boundary.fixed.empty())
     at("support.model", "key 'support.model': \"springs\" act on boundary.fixed, which names "
                         "no group");
@@ -612,6 +624,7 @@ void visit(scene::Visitor& v, Settings& s)
            [&](const std::string& part) { solid::visit(v, s.materials[part], part); });
   visit(v, s.solid);
   dynamics::visit(v, s.dynamics);
+  dynamics::visit(v, s.step_control);
   visit(v, s.puff);
   visit(v, s.air);
   mesh_motion::visit(v, s.mesh_motion);

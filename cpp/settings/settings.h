@@ -242,6 +242,7 @@ struct Settings
   std::map<std::string, solid::Material> materials; ///< by part (volume group)
   SolidSettings solid;
   dynamics::TimeStep dynamics;
+  dynamics::StepControl step_control; ///< [dynamics]'s choice of the steps
   PuffSettings puff;
   AirSettings air;
   mesh_motion::Settings mesh_motion;
@@ -311,6 +312,7 @@ void visit(scene::Visitor& v, Settings& s);
 namespace dynamics
 {
 void visit(scene::Visitor& v, TimeStep& s);
+void visit(scene::Visitor& v, StepControl& s);
 }
 namespace solid
 {

@@ -638,6 +638,23 @@ void Problem::advance()
   }
 }
 
+double Problem::local_error() const
+{
+  const double dt = _time.at("dt")->value[0], beta = _time.at("beta")->value[0];
+  auto un = u->x()->array(), uo = u_old->x()->array(), vo = v_old->x()->array(),
+       ao = a_old->x()->array();
+  const std::size_t owned = u->x()->map()->size_local() * u->x()->bs();
+  double e = 0;
+  for (std::size_t i = 0; i < owned; ++i)
+  {
+    const double a = (un[i] - uo[i] - dt * vo[i]) / (beta * dt * dt)
+                     - (1 - 2 * beta) / (2 * beta) * ao[i];
+    e = std::max(e, std::abs(a - ao[i]));
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &e, 1, MPI_DOUBLE, MPI_MAX, u->function_space()->mesh()->comm());
+  return std::abs(beta - 1.0 / 6) * dt * dt * e;
+}
+
 void Problem::predict()
 {
   // The Newmark update at a_{n+1} = a_n: the constant-acceleration predictor.

@@ -127,6 +127,11 @@ public:
   /// After a converged step: a and v from the Newmark updates, then the
   /// new state becomes the old one.
   void advance();
+  /// Dynamics, before advance(): the converged step's local error estimate
+  /// in the displacement [mm], (beta - 1/6) dt^2 max|a_{n+1} - a_n| over the
+  /// model (O. C. Zienkiewicz, Y. M. Xie, Earthq. Eng. Struct. Dyn. 20
+  /// (1991) 871-887).
+  double local_error() const;
   /// Dynamics: u = u_n + dt v_n + dt^2/2 a_n, the state whose Newmark
   /// acceleration is a_n (the constant-acceleration predictor).
   void predict();
