@@ -55,8 +55,7 @@ void finish(RunState& s, const std::string& status)
   s.summary["factorisations"] = t.factorisations;
   s.summary["krylov_iterations"] = t.krylov_iterations;
   s.summary["step_cuts"] = s.stepper.cuts;
-  if (s.settings.step_control.tolerance > 0)
-    s.summary["step_rejections"] = s.stepper.rejections;
+  s.summary["step_rejections"] = s.stepper.rejections;
   s.summary["wall_s"] = MPI_Wtime() - s.wall_start;
   // Peak resident memory (the factorisations' included): the largest rank's
   // and all ranks' together [MB].
