@@ -272,8 +272,8 @@ void check_consistency(const scene::Scene& scene, const Settings& s, Errors& e)
   {
     if (load == Load::air)
       at("dynamics.tolerance", "key 'dynamics.tolerance': adaptive steps follow the solid's "
-                               "error estimate, and puff.load = \"air\" moves no solid; 0 "
-                               "(fixed steps)");
+                               "error estimate, and puff.load = \"air\" moves no solid; "
+                               "use 0 (fixed steps)");
     if (c.dt_max < s.dynamics.dt)
       at("dynamics.dt_max", io::format("key 'dynamics.dt_max': %g ms is shorter than the first "
                                        "step, dynamics.dt = %g ms; needs >= dynamics.dt",

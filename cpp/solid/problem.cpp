@@ -617,6 +617,16 @@ void Problem::restore(const io::CheckpointReader& checkpoint, bool dynamic)
   _dynamic = true;
 }
 
+namespace
+{
+/// a_{n+1} from the Newmark displacement update (forms/dynamics.py).
+double newmark_acceleration(double u, double u_old, double v_old, double a_old, double dt,
+                            double beta)
+{
+  return (u - u_old - dt * v_old) / (beta * dt * dt) - (1 - 2 * beta) / (2 * beta) * a_old;
+}
+} // namespace
+
 void Problem::advance()
 {
   if (_viscoelasticity)
@@ -630,8 +640,7 @@ void Problem::advance()
        ao = a_old->x()->mutable_array();
   for (std::size_t i = 0; i < un.size(); ++i)
   {
-    const double a = (un[i] - uo[i] - dt * vo[i]) / (beta * dt * dt)
-                     - (1 - 2 * beta) / (2 * beta) * ao[i];
+    const double a = newmark_acceleration(un[i], uo[i], vo[i], ao[i], dt, beta);
     vo[i] += dt * ((1 - gamma) * ao[i] + gamma * a);
     ao[i] = a;
     uo[i] = un[i];
@@ -647,8 +656,7 @@ double Problem::local_error() const
   double e = 0;
   for (std::size_t i = 0; i < owned; ++i)
   {
-    const double a = (un[i] - uo[i] - dt * vo[i]) / (beta * dt * dt)
-                     - (1 - 2 * beta) / (2 * beta) * ao[i];
+    const double a = newmark_acceleration(un[i], uo[i], vo[i], ao[i], dt, beta);
     e = std::max(e, std::abs(a - ao[i]));
   }
   MPI_Allreduce(MPI_IN_PLACE, &e, 1, MPI_DOUBLE, MPI_MAX, u->function_space()->mesh()->comm());
